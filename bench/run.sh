@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Runs the benchmarks in BUILD_DIR and writes docs/PERFORMANCE.md: medians of repeated runs, and
+# every figure also as a ratio to a baseline measured in the same run (absolute times on shared
+# machines drift by tens of percent; ratios within one run are what we compare).
+#   bash bench/run.sh BUILD_DIR
+set -euo pipefail
+build="${1:?usage: bench/run.sh BUILD_DIR}"
+root="$(cd "$(dirname "$0")/.." && pwd)"
+json="$build/field_query_bench.json"
+"$build/bench/field_query_bench" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
+  --benchmark_report_aggregates_only=true --benchmark_format=json >"$json"
+python3 "$root/bench/report.py" "$json" >"$root/docs/PERFORMANCE.md"
+echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2

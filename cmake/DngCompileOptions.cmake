@@ -1,0 +1,18 @@
+# Warnings for every dngrid target, and the ASan build type (AddressSanitizer +
+# UndefinedBehaviorSanitizer) used by CI: cmake -DCMAKE_BUILD_TYPE=ASan.
+#
+# The sanitizer flags are attached with generator expressions rather than CMAKE_CXX_FLAGS_ASAN: CMake
+# creates that cache entry (empty) as soon as the build type is named, so a cached default never lands.
+set(DNG_SANITIZE_FLAGS -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all)
+add_compile_options("$<$<CONFIG:ASan>:${DNG_SANITIZE_FLAGS}>")
+add_link_options("$<$<CONFIG:ASan>:-fsanitize=address,undefined>")
+
+# dng_target_warnings(<target>): -Wall -Wextra and friends; -Werror when DNG_WERROR is on.
+function(dng_target_warnings target)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
+                                             $<$<BOOL:${DNG_WERROR}>:-Werror>)
+  elseif(MSVC)
+    target_compile_options(${target} PRIVATE /W4 $<$<BOOL:${DNG_WERROR}>:/WX>)
+  endif()
+endfunction()

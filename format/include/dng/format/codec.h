@@ -1,0 +1,158 @@
+// Bit-level codecs of the bricked encoding: octahedral normals, brick-top entries and pool words.
+//
+// Octahedral normal mapping after Cigolle et al., "A Survey of Efficient Representations for
+// Independent Unit Vectors", JCGT 3(2), 2014. Decoding is total: every bit pattern yields a finite
+// unit vector and a finite distance, so a validated file needs no per-query checks (DESIGN.md §3).
+//
+// Top entry (64 bits), kind in bits 0-1 (TileKind):
+//   far outside / far inside: bits 2-63 zero
+//   plane: bits 2-16 octahedral u (15 bits), bits 17-31 v (15 bits), bits 32-63 float32 d_c
+//   brick: bits 2-31 pool index, bits 32-47 lo16, bits 48-63 hi16 (distance range, see below)
+// Pool word (32 bits): bits 0-10 octahedral u, bits 11-21 v, bits 22-31 distance q10.
+// Distance range: lo = -band + lo16 * (2 band / 65535), likewise hi; voxel distance
+// d = lo + q10 * (hi - lo) / 1023, where q10 = 1023 gives hi and lo16/hi16 = 65535 give +band exactly.
+#pragma once
+
+#include "dng/format/layout.h"
+#include "dng/format/vec3.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace dng {
+namespace format {
+
+inline constexpr int kPlaneOctBits = 15;
+inline constexpr int kWordOctBits = 11;
+inline constexpr int kWordDistanceBits = 10;
+inline constexpr std::uint32_t kWordDistanceMax = (1u << kWordDistanceBits) - 1; // 1023
+inline constexpr std::uint32_t kRangeMax = 65535;
+inline constexpr std::uint32_t kMaxPoolBricks = 1u << 30;
+
+/// Octahedral decode of two `bits`-wide integers. Total: every input gives a finite unit vector.
+/// Correctly rounded sqrt and division only, so results are identical on every IEEE-754 host (a
+/// hardware rsqrt estimate was measured no faster here and would differ between CPU models).
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+inline Vec3f
+octDecode(std::uint32_t qu, std::uint32_t qv, int bits) {
+  const float scale = 2.0f / float((1u << bits) - 1);
+  float x = float(qu) * scale - 1.0f;
+  float y = float(qv) * scale - 1.0f;
+  const float z = 1.0f - std::fabs(x) - std::fabs(y);
+  // Unfold the lower hemisphere without a branch (half of all normals take it, so a branch would
+  // mispredict): x - sgn(x) * max(-z, 0) equals (1 - |y|) * sgn(x) when z < 0, x otherwise.
+  const float t = -z > 0.0f ? -z : 0.0f; // not std::fmax: that is a libm call without -ffast-math
+  x -= std::copysign(t, x);
+  y -= std::copysign(t, y);
+  // |x| + |y| + |z| == 1 here, so the length is at least 1/sqrt(3): never a division by zero.
+  const float inv = 1.0f / std::sqrt(x * x + y * y + z * z);
+  return {x * inv, y * inv, z * inv};
+}
+
+/// Octahedral encode of a unit vector to the nearest of the four surrounding lattice points
+/// (the "precise" variant: it minimises the decoded angle error). A zero or non-finite vector
+/// encodes +z. Used by writers only; not on any query path.
+inline void octEncode(Vec3f n, int bits, std::uint32_t* out_u, std::uint32_t* out_v) {
+  const float l1 = std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z);
+  if (!(l1 > 0.0f) || !std::isfinite(l1)) n = {0.0f, 0.0f, 1.0f};
+  const float inv_l1 = 1.0f / (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z));
+  float x = n.x * inv_l1;
+  float y = n.y * inv_l1;
+  if (n.z < 0.0f) {
+    const float fx = (1.0f - std::fabs(y)) * (x >= 0.0f ? 1.0f : -1.0f);
+    const float fy = (1.0f - std::fabs(x)) * (y >= 0.0f ? 1.0f : -1.0f);
+    x = fx;
+    y = fy;
+  }
+  const float max_q = float((1u << bits) - 1);
+  const float fu = std::fmin(std::fmax((x + 1.0f) * 0.5f * max_q, 0.0f), max_q);
+  const float fv = std::fmin(std::fmax((y + 1.0f) * 0.5f * max_q, 0.0f), max_q);
+  const auto u0 = std::uint32_t(std::floor(fu));
+  const auto v0 = std::uint32_t(std::floor(fv));
+  const std::uint32_t top = (1u << bits) - 1;
+  double best = 360.0;
+  for (std::uint32_t du = 0; du < 2; ++du) {
+    for (std::uint32_t dv = 0; dv < 2; ++dv) {
+      const std::uint32_t u = u0 + du > top ? top : u0 + du;
+      const std::uint32_t v = v0 + dv > top ? top : v0 + dv;
+      // Candidates differ by less than a float cosine can resolve: compare precise angles.
+      const double angle = angleDegrees(octDecode(u, v, bits), n);
+      if (angle < best) {
+        best = angle;
+        *out_u = u;
+        *out_v = v;
+      }
+    }
+  }
+}
+
+/// Packs a far tile.
+inline std::uint64_t packFarEntry(TileKind kind) { return std::uint64_t(kind); }
+
+/// Packs a plane tile: quantized normal and the signed distance at the tile centre.
+inline std::uint64_t packPlaneEntry(std::uint32_t qu, std::uint32_t qv, float d_centre) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &d_centre, 4);
+  return std::uint64_t(TileKind::kPlane) | std::uint64_t(qu) << 2 | std::uint64_t(qv) << (2 + kPlaneOctBits) |
+         std::uint64_t(bits) << 32;
+}
+
+/// Packs a brick reference: pool index (< kMaxPoolBricks) and the quantized distance range.
+inline std::uint64_t packBrickEntry(std::uint32_t pool_index, std::uint32_t lo16, std::uint32_t hi16) {
+  return std::uint64_t(TileKind::kBrick) | std::uint64_t(pool_index) << 2 | std::uint64_t(lo16) << 32 |
+         std::uint64_t(hi16) << 48;
+}
+
+inline TileKind entryKind(std::uint64_t entry) { return TileKind(entry & 3u); }
+inline std::uint32_t entryPoolIndex(std::uint64_t entry) { return std::uint32_t(entry >> 2) & (kMaxPoolBricks - 1); }
+inline std::uint32_t entryLo16(std::uint64_t entry) { return std::uint32_t(entry >> 32) & 0xFFFFu; }
+inline std::uint32_t entryHi16(std::uint64_t entry) { return std::uint32_t(entry >> 48); }
+
+inline Vec3f entryPlaneNormal(std::uint64_t entry) {
+  constexpr std::uint32_t mask = (1u << kPlaneOctBits) - 1;
+  return octDecode(std::uint32_t(entry >> 2) & mask, std::uint32_t(entry >> (2 + kPlaneOctBits)) & mask, kPlaneOctBits);
+}
+
+/// The plane's distance at the tile centre. May be non-finite in a damaged file: the loader rejects
+/// such files, so queries on a validated view never see one.
+inline float entryPlaneDistance(std::uint64_t entry) {
+  const std::uint32_t bits = std::uint32_t(entry >> 32);
+  float d;
+  std::memcpy(&d, &bits, 4);
+  return d;
+}
+
+/// Step between consecutive 16-bit range codes for a given band; readers compute it once.
+inline float rangeStep(float band) { return 2.0f * band / float(kRangeMax); }
+
+/// Dequantizes a 16-bit range end: -band .. +band in 65535 steps of rangeStep(band). Both ends are
+/// exact, so voxels clamped to +-band decode to exactly +-band and stay "far".
+inline float rangeValue(std::uint32_t q16, float band, float step) {
+  return q16 >= kRangeMax ? band : -band + float(q16) * step;
+}
+inline float rangeValue(std::uint32_t q16, float band) { return rangeValue(q16, band, rangeStep(band)); }
+
+/// Step between consecutive 10-bit distance codes of a brick whose range is [lo, hi].
+inline float brickDistanceStep(float lo, float hi) { return (hi - lo) * (1.0f / float(kWordDistanceMax)); }
+
+/// Distance of a voxel word in a brick with range [lo, hi] and step brickDistanceStep(lo, hi).
+/// Code 0 gives lo and code 1023 gives hi exactly.
+inline float wordDistance(std::uint32_t word, float lo, float hi, float step) {
+  const std::uint32_t code = word >> (2 * kWordOctBits);
+  return code == kWordDistanceMax ? hi : lo + float(code) * step;
+}
+
+inline std::uint32_t packWord(std::uint32_t qu, std::uint32_t qv, std::uint32_t qd) {
+  return qu | qv << kWordOctBits | qd << (2 * kWordOctBits);
+}
+
+inline Vec3f wordNormal(std::uint32_t word) {
+  constexpr std::uint32_t mask = (1u << kWordOctBits) - 1;
+  return octDecode(word & mask, (word >> kWordOctBits) & mask, kWordOctBits);
+}
+
+} // namespace format
+} // namespace dng

@@ -1,0 +1,47 @@
+// An in-memory DN field: the common currency between producers (the baker, tests, analytic
+// functions) and the writer. Dense, one distance and one normal per voxel, x fastest.
+#pragma once
+
+#include "dng/format/vec3.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace dng {
+namespace format {
+
+/// Placement of a grid in its body's local frame. Voxel (i, j, k) covers
+/// [origin + (i, j, k) * voxel_size, origin + (i + 1, j + 1, k + 1) * voxel_size).
+struct GridGeometry {
+  Vec3f origin;                      ///< minimum corner of voxel (0, 0, 0)
+  float voxel_size = 1.0f;           ///< cubic voxel edge, > 0
+  std::uint32_t dims[3] = {0, 0, 0}; ///< voxels per axis, each >= 1
+  float band = 1.0f;                 ///< |distance| >= band is "far", > 0, in local units
+
+  std::size_t voxelCount() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
+  std::size_t index(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+    return (std::size_t(k) * dims[1] + j) * dims[0] + i;
+  }
+  Vec3f voxelCentre(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+    return origin + Vec3f{float(i) + 0.5f, float(j) + 0.5f, float(k) + 0.5f} * voxel_size;
+  }
+};
+
+/// Distance and normal per voxel. `distance` and `normal` both hold grid.voxelCount() entries.
+/// Normals of far voxels (|distance| >= band) carry no meaning and may be zero.
+struct DenseField {
+  GridGeometry grid;
+  std::vector<float> distance;
+  std::vector<Vec3f> normal;
+
+  /// Sizes both arrays for `geometry`, far outside (+band) with zero normals.
+  void reset(const GridGeometry& geometry) {
+    grid = geometry;
+    distance.assign(grid.voxelCount(), grid.band);
+    normal.assign(grid.voxelCount(), Vec3f{});
+  }
+};
+
+} // namespace format
+} // namespace dng

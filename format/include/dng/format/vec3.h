@@ -1,0 +1,40 @@
+// The one small vector type shared by the format, the runtime and the tools.
+#pragma once
+
+#include <cmath>
+
+namespace dng {
+
+/// Three floats, no invariants. Plain aggregate so arrays of it can be memcpy'd and mapped.
+struct Vec3f {
+  float x = 0.0f;
+  float y = 0.0f;
+  float z = 0.0f;
+};
+
+inline Vec3f operator+(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3f operator-(Vec3f a, Vec3f b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3f operator*(Vec3f a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+inline Vec3f operator*(float s, Vec3f a) { return a * s; }
+inline float dot(Vec3f a, Vec3f b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3f cross(Vec3f a, Vec3f b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline float length(Vec3f a) { return std::sqrt(dot(a, a)); }
+
+/// Angle between `a` and `b` in degrees, 0 when either is zero. Uses atan2 of |a x b| and a . b in
+/// double precision, which stays accurate for tiny angles where acos of a float cosine cannot.
+inline double angleDegrees(Vec3f a, Vec3f b) {
+  const double ax = a.x, ay = a.y, az = a.z, bx = b.x, by = b.y, bz = b.z;
+  const double cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
+  const double sine = std::sqrt(cx * cx + cy * cy + cz * cz);
+  const double cosine = ax * bx + ay * by + az * bz;
+  if (sine == 0.0 && cosine == 0.0) return 0.0;
+  return std::atan2(sine, cosine) * 57.29577951308232;
+}
+
+/// Unit vector along `a`, or the zero vector when `a` is zero or not finite-length.
+inline Vec3f normalizeOrZero(Vec3f a) {
+  const float len = length(a);
+  return len > 0.0f && std::isfinite(len) ? a * (1.0f / len) : Vec3f{};
+}
+
+} // namespace dng

@@ -1,0 +1,91 @@
+// Writing .dng files: a generic container builder and the two payload encoders.
+//
+// Everything here produces bytes in memory; putting them on disk atomically is the caller's job.
+// Output is a pure function of the inputs (single-threaded, no clocks, no addresses), so the same
+// field and options always give byte-identical files.
+#pragma once
+
+#include "dng/format/dense_field.h"
+#include "dng/format/layout.h"
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dng {
+namespace format {
+
+/// Assembles header, section table and 64-byte aligned sections, in the order they were added.
+/// Not thread-safe; cheap to create.
+class ContainerBuilder {
+public:
+  /// Copies `size` bytes as a section with FourCC `tag`; `flags` bit 0 marks it required.
+  void addSection(std::uint32_t tag, std::uint32_t flags, const void* data, std::size_t size);
+
+  /// Sets the version numbers written into the header (tests use it to fake newer files).
+  void setVersion(std::uint16_t major, std::uint16_t minor) {
+    major_ = major;
+    minor_ = minor;
+  }
+
+  /// The complete file: header, table, sections, every hash filled in.
+  std::vector<std::uint8_t> finish() const;
+
+private:
+  struct Pending {
+    std::uint32_t tag;
+    std::uint32_t flags;
+    std::vector<std::uint8_t> bytes;
+  };
+  std::vector<Pending> sections_;
+  std::uint16_t major_ = kVersionMajor;
+  std::uint16_t minor_ = kVersionMinor;
+};
+
+/// Recomputes every section hash whose range lies inside `bytes`, then the table and header hashes.
+/// For tools and tests that patch a file on purpose; never needed after finish().
+void resealHashes(std::vector<std::uint8_t>& bytes);
+
+/// Bricked-encoder knobs. Tolerances decide when a brick may be replaced by a plane or far tile:
+/// only when every voxel it replaces is reproduced within them.
+struct BrickOptions {
+  std::uint32_t brick_size = 8;      ///< voxels per brick edge: 4, 8 or 16
+  float tolerance_distance = 0.02f;  ///< in voxels
+  float tolerance_normal_deg = 0.5f; ///< in degrees
+};
+
+/// What an encoder wrote and the largest error it let through, measured over in-band voxels
+/// (|distance| < band) by decoding what it wrote at each voxel centre.
+struct EncodeStats {
+  std::uint64_t far_outside_tiles = 0;
+  std::uint64_t far_inside_tiles = 0;
+  std::uint64_t plane_tiles = 0;
+  std::uint64_t brick_tiles = 0;
+  std::uint64_t band_voxels = 0;
+  float max_distance_error_voxels = 0.0f;
+  float max_normal_error_deg = 0.0f;
+  std::uint64_t payload_bytes = 0; ///< bytes of the payload sections (excluding GRID and META)
+};
+
+/// Result of an encode: `error` is empty on success, otherwise `bytes` is empty.
+struct EncodeResult {
+  std::vector<std::uint8_t> bytes;
+  EncodeStats stats;
+  std::string error;
+  bool ok() const { return error.empty(); }
+};
+
+/// Empty when `field` can be written, otherwise why not (sizes, non-finite values, limits).
+std::string checkField(const DenseField& field);
+
+/// Dense encoding: every voxel's distance and normal as float32. `metadata_json` (UTF-8 JSON, may be
+/// empty) goes into an optional META section when not empty.
+[[nodiscard]] EncodeResult encodeDense(const DenseField& field, std::string_view metadata_json);
+
+/// Bricked encoding, the paper's compressed plane grid (§3.2). See docs/FORMAT.md.
+[[nodiscard]] EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options,
+                                         std::string_view metadata_json);
+
+} // namespace format
+} // namespace dng

@@ -1,0 +1,226 @@
+// The bricked encoding: Ilmonen, Takala & Laitinen's "compressed plane grid" (paper §3.2) as a
+// two-level tree. Each brick of B^3 voxels becomes, in order of preference:
+//   1. a far tile, when every voxel is beyond the band on the same side (nothing is lost);
+//   2. a plane tile, when one plane d = d_c + n . (p - c) reproduces every voxel's distance and
+//      normal within the tolerances (the paper: "turn the distance/normal information into a plane
+//      equation");
+//   3. a brick of 32-bit words in the pool (octahedral normal + brick-affine 10-bit distance).
+// Single-threaded and free of unordered containers, so the output depends only on the input.
+#include "dng/format/codec.h"
+#include "dng/format/writer.h"
+#include "grid_section.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dng {
+namespace format {
+namespace {
+
+constexpr float kDegrees = 57.29577951308232f;
+
+struct Encoder {
+  const DenseField& field;
+  std::uint32_t log2;
+  std::uint32_t size;
+  float tolerance_local; // distance tolerance in local units
+  float min_cosine;      // cosine of the normal tolerance
+  std::vector<std::uint64_t> top;
+  std::vector<std::uint32_t> pool;
+  EncodeStats stats;
+};
+
+// A brick's voxel range, clipped to the grid.
+struct BrickBox {
+  std::uint32_t lo[3];
+  std::uint32_t hi[3]; // exclusive
+};
+
+template <class Visit> void forEachVoxel(const Encoder& e, const BrickBox& box, Visit visit) {
+  for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
+    for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
+      for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
+        visit(i, j, k, e.field.grid.index(i, j, k));
+}
+
+float clampToBand(float d, float band) { return std::min(std::max(d, -band), band); }
+
+bool inBand(const Encoder& e, std::size_t v) { return std::fabs(e.field.distance[v]) < e.field.grid.band; }
+
+// Records the error of a decoded (distance, normal) against the input voxel it stands for.
+void measure(Encoder& e, std::size_t v, float decoded_distance, Vec3f decoded_normal) {
+  const float h = e.field.grid.voxel_size;
+  e.stats.max_distance_error_voxels =
+      std::max(e.stats.max_distance_error_voxels, std::fabs(decoded_distance - e.field.distance[v]) / h);
+  // A zero input normal (the producer gave none) compares as 0 degrees: nothing to compare.
+  const auto angle = float(angleDegrees(e.field.normal[v], decoded_normal));
+  e.stats.max_normal_error_deg = std::max(e.stats.max_normal_error_deg, angle);
+}
+
+// Far tile when every voxel lies beyond the band on one side.
+bool tryFarTile(Encoder& e, const BrickBox& box, std::uint64_t* out_entry) {
+  const float band = e.field.grid.band;
+  bool all_outside = true;
+  bool all_inside = true;
+  forEachVoxel(e, box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
+    all_outside = all_outside && e.field.distance[v] >= band;
+    all_inside = all_inside && e.field.distance[v] <= -band;
+  });
+  if (!all_outside && !all_inside) return false;
+  *out_entry = packFarEntry(all_outside ? TileKind::kFarOutside : TileKind::kFarInside);
+  return true;
+}
+
+Vec3f tileCentre(const Encoder& e, const std::uint32_t brick[3]) {
+  const GridGeometry& g = e.field.grid;
+  const float half = 0.5f * float(e.size);
+  return g.origin +
+         Vec3f{float(brick[0] * e.size) + half, float(brick[1] * e.size) + half, float(brick[2] * e.size) + half} *
+             g.voxel_size;
+}
+
+// Plane tile when the (quantized) mean normal and a least-squares offset reproduce every voxel.
+bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3], std::uint64_t* out_entry) {
+  const GridGeometry& g = e.field.grid;
+  Vec3f normal_sum;
+  forEachVoxel(e, box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
+    if (inBand(e, v)) normal_sum = normal_sum + normalizeOrZero(e.field.normal[v]);
+  });
+  if (dot(normal_sum, normal_sum) == 0.0f) return false;
+  std::uint32_t qu = 0, qv = 0;
+  octEncode(normalizeOrZero(normal_sum), kPlaneOctBits, &qu, &qv);
+  const Vec3f n = octDecode(qu, qv, kPlaneOctBits);
+  const Vec3f c = tileCentre(e, brick);
+
+  double offset_sum = 0.0;
+  std::size_t band_count = 0;
+  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    if (!inBand(e, v)) return;
+    offset_sum += double(e.field.distance[v]) - double(dot(n, g.voxelCentre(i, j, k) - c));
+    ++band_count;
+  });
+  const float d_c = float(offset_sum / double(band_count));
+
+  bool fits = true;
+  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    const float predicted = d_c + dot(n, g.voxelCentre(i, j, k) - c);
+    const float error = std::fabs(clampToBand(predicted, g.band) - clampToBand(e.field.distance[v], g.band));
+    const bool normal_ok = !inBand(e, v) || dot(n, normalizeOrZero(e.field.normal[v])) >= e.min_cosine;
+    fits = fits && error <= e.tolerance_local && normal_ok;
+  });
+  if (!fits) return false;
+  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    if (inBand(e, v)) measure(e, v, d_c + dot(n, g.voxelCentre(i, j, k) - c), n);
+  });
+  *out_entry = packPlaneEntry(qu, qv, d_c);
+  return true;
+}
+
+// Quantized brick: the range [lo, hi] is rounded outwards to 16 bits, then each voxel to 10 bits.
+std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
+  const float band = e.field.grid.band;
+  float lo = band, hi = -band;
+  forEachVoxel(e, box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
+    lo = std::min(lo, clampToBand(e.field.distance[v], band));
+    hi = std::max(hi, clampToBand(e.field.distance[v], band));
+  });
+  const float to_q16 = float(kRangeMax) / (2.0f * band);
+  const auto lo16 = std::uint32_t(std::clamp(std::floor((lo + band) * to_q16), 0.0f, float(kRangeMax)));
+  const auto hi16 = std::uint32_t(std::clamp(std::ceil((hi + band) * to_q16), float(lo16), float(kRangeMax)));
+  const float lo_value = rangeValue(lo16, band);
+  const float hi_value = rangeValue(hi16, band);
+  const float step = brickDistanceStep(lo_value, hi_value);
+
+  const std::size_t base = e.pool.size();
+  const std::uint32_t pool_index = std::uint32_t(base >> (3 * e.log2));
+  e.pool.resize(base + (std::size_t(1) << (3 * e.log2)), 0u);
+  const std::uint32_t mask = e.size - 1;
+  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    const float d = clampToBand(e.field.distance[v], band);
+    const float code = d >= hi_value ? float(kWordDistanceMax) : step > 0.0f ? std::round((d - lo_value) / step) : 0.0f;
+    const auto qd = std::uint32_t(std::clamp(code, 0.0f, float(kWordDistanceMax)));
+    std::uint32_t qu = 0, qv = 0;
+    octEncode(e.field.normal[v], kWordOctBits, &qu, &qv);
+    const std::uint32_t word = packWord(qu, qv, qd);
+    const std::size_t local = ((k & mask) << (2 * e.log2)) | ((j & mask) << e.log2) | (i & mask);
+    e.pool[base + local] = word;
+    if (inBand(e, v)) measure(e, v, wordDistance(word, lo_value, hi_value, step), wordNormal(word));
+  });
+  return packBrickEntry(pool_index, lo16, hi16);
+}
+
+void encodeTile(Encoder& e, const std::uint32_t brick[3]) {
+  BrickBox box;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = brick[a] * e.size;
+    box.hi[a] = std::min(box.lo[a] + e.size, e.field.grid.dims[a]);
+  }
+  std::uint64_t entry = 0;
+  if (tryFarTile(e, box, &entry)) {
+    ++(entryKind(entry) == TileKind::kFarOutside ? e.stats.far_outside_tiles : e.stats.far_inside_tiles);
+  } else if (tryPlaneTile(e, box, brick, &entry)) {
+    ++e.stats.plane_tiles;
+  } else {
+    entry = writeBrick(e, box);
+    ++e.stats.brick_tiles;
+  }
+  e.top.push_back(entry);
+}
+
+std::string checkOptions(const BrickOptions& o) {
+  if (o.brick_size != 4 && o.brick_size != 8 && o.brick_size != 16) return "brick size must be 4, 8 or 16";
+  if (!(o.tolerance_distance >= 0.0f) || !std::isfinite(o.tolerance_distance))
+    return "distance tolerance must be finite and >= 0";
+  if (!(o.tolerance_normal_deg >= 0.0f) || !(o.tolerance_normal_deg <= 180.0f))
+    return "normal tolerance must be between 0 and 180 degrees";
+  return {};
+}
+
+} // namespace
+
+EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options, std::string_view metadata_json) {
+  EncodeResult result;
+  result.error = checkField(field);
+  if (result.ok()) result.error = checkOptions(options);
+  if (!result.ok()) return result;
+
+  const std::uint32_t log2 = options.brick_size == 4 ? 2 : options.brick_size == 8 ? 3 : 4;
+  Encoder e{field,
+            log2,
+            options.brick_size,
+            options.tolerance_distance * field.grid.voxel_size,
+            std::cos(options.tolerance_normal_deg / kDegrees),
+            {},
+            {},
+            {}};
+  GridSection grid = makeGridSection(field.grid, Encoding::kBricked);
+  grid.brick_log2 = log2;
+  for (int a = 0; a < 3; ++a)
+    grid.brick_dims[a] = (field.grid.dims[a] + e.size - 1) >> log2;
+  grid.tolerance_distance = options.tolerance_distance;
+  grid.tolerance_normal_deg = options.tolerance_normal_deg;
+
+  std::uint32_t brick[3];
+  for (brick[2] = 0; brick[2] < grid.brick_dims[2]; ++brick[2])
+    for (brick[1] = 0; brick[1] < grid.brick_dims[1]; ++brick[1])
+      for (brick[0] = 0; brick[0] < grid.brick_dims[0]; ++brick[0])
+        encodeTile(e, brick);
+  if (e.stats.brick_tiles >= kMaxPoolBricks) {
+    result.error = "too many bricks for one file (the pool index has 30 bits)";
+    return result;
+  }
+  for (float d : field.distance)
+    e.stats.band_voxels += std::fabs(d) < field.grid.band ? 1 : 0;
+
+  ContainerBuilder builder;
+  addCommonSections(builder, grid, metadata_json);
+  builder.addSection(kTagBrickTop, kSectionRequired, e.top.data(), e.top.size() * sizeof(std::uint64_t));
+  builder.addSection(kTagBrickPool, kSectionRequired, e.pool.data(), e.pool.size() * sizeof(std::uint32_t));
+  result.stats = e.stats;
+  result.stats.payload_bytes = e.top.size() * sizeof(std::uint64_t) + e.pool.size() * sizeof(std::uint32_t);
+  result.bytes = builder.finish();
+  return result;
+}
+
+} // namespace format
+} // namespace dng

@@ -1,0 +1,33 @@
+// dng::File: owns a memory-mapped .dng file and the validated View onto it.
+#pragma once
+
+#include "dng/view.h"
+
+namespace dng {
+
+/// Move-only owner of a read-only mapping. The View it hands out is valid while the File lives.
+class File {
+public:
+  File() = default;
+  ~File();
+  File(File&& other) noexcept;
+  File& operator=(File&& other) noexcept;
+  File(const File&) = delete;
+  File& operator=(const File&) = delete;
+
+  /// Maps the file at `path` (NUL-terminated) read-only and validates it with View::open. On failure
+  /// returns the status, leaves `*out_file` empty and fills `out_diag` when given. Never throws.
+  static Status open(const char* path, File* out_file, Diagnostic* out_diag = nullptr);
+
+  const View& view() const { return view_; }
+  bool valid() const { return view_.valid(); }
+
+private:
+  void release();
+
+  void* mapping_ = nullptr;
+  std::size_t mapped_size_ = 0;
+  View view_;
+};
+
+} // namespace dng

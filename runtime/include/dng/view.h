@@ -1,0 +1,122 @@
+// dng::View: a validated, read-only window onto the bytes of a .dng file, and the field queries.
+//
+// A View does not own memory. Create it with View::open() over bytes that stay alive and unchanged
+// for as long as the View is used (dng::File owns a mapped file and hands out its View). Opening
+// validates the whole structure once (docs/FORMAT.md §6), in time proportional to the top table;
+// after that every query is const, thread-safe, allocation-free and defined for every input.
+#pragma once
+
+#include "dng/format/layout.h"
+#include "dng/format/vec3.h"
+#include "dng/status.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+namespace dng {
+
+/// What a query found at a point.
+enum class SampleStatus : std::uint32_t {
+  kNoField = 0,    ///< outside the grid, or a NaN/infinite coordinate: distance = +inf, normal = 0
+  kFarOutside = 1, ///< distance >= band: distance is that value (band on far tiles), normal = 0
+  kFarInside = 2,  ///< distance <= -band: as above, negative
+  kInBand = 3,     ///< |distance| < band: signed distance and unit normal
+};
+
+enum class Interpolation : std::uint32_t {
+  kNearest = 0,   ///< the containing voxel, its distance refined by its own plane (paper §3.1)
+  kTrilinear = 1, ///< trilinear blend of the eight surrounding voxel centres, normal renormalized
+};
+
+/// Result of one query. 20 bytes, trivially copyable.
+struct Sample {
+  float distance = 0.0f;
+  Vec3f normal;
+  SampleStatus status = SampleStatus::kNoField;
+};
+
+/// Grid geometry as decoded from the GRID section.
+struct GridInfo {
+  Vec3f origin; ///< minimum corner, grid-local frame
+  float voxel_size = 0.0f;
+  std::uint32_t dims[3] = {};
+  float band = 0.0f;
+  format::Encoding encoding = format::Encoding::kDense;
+  std::uint32_t brick_size = 0; ///< 0 for dense
+  std::uint32_t brick_dims[3] = {};
+  float tolerance_distance = 0.0f;   ///< bricked: voxels
+  float tolerance_normal_deg = 0.0f; ///< bricked: degrees
+};
+
+/// Tile counts of a bricked file (all zero for dense), counted once at open.
+struct TileCounts {
+  std::uint64_t far_outside = 0;
+  std::uint64_t far_inside = 0;
+  std::uint64_t plane = 0;
+  std::uint64_t brick = 0;
+};
+
+class View {
+public:
+  View() = default; ///< An empty view: valid() is false and every sample is kNoField.
+
+  /// Validates `size` bytes at `data` and, on success, points `*out_view` at them. `data` must be
+  /// 8-byte aligned (mmap and operator new are). Safe on any untrusted bytes: on failure returns the
+  /// status, leaves `*out_view` empty and, if `out_diag` is not null, fills it. Never throws.
+  static Status open(const void* data, std::size_t size, View* out_view, Diagnostic* out_diag = nullptr);
+
+  bool valid() const { return data_ != nullptr; }
+
+  /// Field at `p` (grid-local frame). Defined for every input, including NaN and infinities.
+  Sample sample(Vec3f p, Interpolation mode = Interpolation::kNearest) const;
+
+  /// Samples `count` points: point n is three floats at byte offset n * point_stride_bytes from
+  /// `points` (stride >= 12; 12 for packed xyz). Writes out_samples[0..count). No allocation.
+  void sampleBatch(const float* points, std::size_t point_stride_bytes, std::size_t count, Sample* out_samples,
+                   Interpolation mode = Interpolation::kNearest) const;
+
+  /// Recomputes every section's hash and compares with the table: the full check, O(file size).
+  /// Separate from open() on purpose; nothing in a file can switch it off.
+  Status verifyHashes(Diagnostic* out_diag = nullptr) const;
+
+  const GridInfo& grid() const { return grid_; }
+  const TileCounts& tileCounts() const { return tiles_; }
+  std::uint16_t versionMajor() const { return version_major_; }
+  std::uint16_t versionMinor() const { return version_minor_; }
+  std::size_t sizeBytes() const { return size_; }
+  const std::uint8_t* data() const { return data_; }
+  /// The META section's UTF-8 JSON, or empty when the file has none. Not NUL-terminated.
+  std::string_view metadata() const { return metadata_; }
+
+private:
+  friend class ViewBuilder; // validation lives in view_open.cpp
+  struct VoxelValue {
+    float distance;
+    Vec3f normal;
+  };
+  // Query helpers, defined (and inlined) in view_sample.cpp, specialised per encoding.
+  template <format::Encoding kEncoding> Sample nearest(Vec3f p) const;
+  template <format::Encoding kEncoding> Sample trilinear(Vec3f p) const;
+  template <format::Encoding kEncoding> VoxelValue voxelValue(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
+  bool toVoxelUnits(Vec3f p, float out_u[3]) const;
+  Sample finish(float distance, Vec3f normal) const;
+
+  const std::uint8_t* data_ = nullptr;
+  std::size_t size_ = 0;
+  GridInfo grid_;
+  TileCounts tiles_;
+  std::uint16_t version_major_ = 0;
+  std::uint16_t version_minor_ = 0;
+  std::string_view metadata_;
+  // Derived at open for the query path.
+  float inv_voxel_size_ = 0.0f;
+  float dims_f_[3] = {};
+  float range_step_ = 0.0f; // format::rangeStep(band), for brick distance ranges
+  std::uint32_t brick_log2_ = 0;
+  const format::DenseVoxel* dense_ = nullptr;
+  const std::uint64_t* top_ = nullptr;
+  const std::uint32_t* pool_ = nullptr;
+};
+
+} // namespace dng

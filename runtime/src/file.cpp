@@ -1,0 +1,74 @@
+// dng::File: read-only memory mapping (POSIX mmap) plus validation.
+#include "dng/file.h"
+#include "diagnostic.h"
+
+#include <cerrno>
+#include <cstring>
+#include <utility>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace dng {
+
+File::~File() { release(); }
+
+File::File(File&& other) noexcept
+    : mapping_(std::exchange(other.mapping_, nullptr)), mapped_size_(std::exchange(other.mapped_size_, 0)),
+      view_(std::exchange(other.view_, View())) {}
+
+File& File::operator=(File&& other) noexcept {
+  if (this != &other) {
+    release();
+    mapping_ = std::exchange(other.mapping_, nullptr);
+    mapped_size_ = std::exchange(other.mapped_size_, 0);
+    view_ = std::exchange(other.view_, View());
+  }
+  return *this;
+}
+
+void File::release() {
+  if (mapping_ != nullptr) munmap(mapping_, mapped_size_);
+  mapping_ = nullptr;
+  mapped_size_ = 0;
+  view_ = View();
+}
+
+Status File::open(const char* path, File* out_file, Diagnostic* out_diag) {
+  if (path == nullptr || out_file == nullptr)
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "path and out_file must not be null");
+  out_file->release();
+  const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return writeDiagnostic(out_diag, Status::kIoError, "cannot open '%s': %s", path, std::strerror(errno));
+  struct stat info;
+  if (fstat(fd, &info) != 0) {
+    const int error = errno;
+    ::close(fd);
+    return writeDiagnostic(out_diag, Status::kIoError, "cannot stat '%s': %s", path, std::strerror(error));
+  }
+  if (!S_ISREG(info.st_mode)) {
+    ::close(fd);
+    return writeDiagnostic(out_diag, Status::kIoError, "'%s' is not a regular file", path);
+  }
+  const auto size = std::size_t(info.st_size);
+  if (size == 0) {
+    ::close(fd);
+    return writeDiagnostic(out_diag, Status::kTruncated, "V3: '%s' is empty", path);
+  }
+  void* mapping = mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
+  const int map_error = errno;
+  ::close(fd); // the mapping keeps the file alive
+  if (mapping == MAP_FAILED)
+    return writeDiagnostic(out_diag, Status::kIoError, "cannot map '%s': %s", path, std::strerror(map_error));
+  File file;
+  file.mapping_ = mapping;
+  file.mapped_size_ = size;
+  const Status status = View::open(mapping, size, &file.view_, out_diag);
+  if (status != Status::kOk) return status; // `file` unmaps on the way out
+  *out_file = std::move(file);
+  return Status::kOk;
+}
+
+} // namespace dng

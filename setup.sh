@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# setup.sh: one entry point for installing, building, testing and running dngrid.
+#
+#   bash setup.sh test           install what is missing, build (Release), run the whole test suite
+#   bash setup.sh demo           the README demo (see below for its state)
+#   bash setup.sh deps           only install the Debian packages the project needs
+#   bash setup.sh asan           build and test with AddressSanitizer + UndefinedBehaviorSanitizer
+#   bash setup.sh runtime-only   build and test format + runtime with the baker and its libraries off
+#   bash setup.sh format-check   check clang-format on every source file
+#   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
+#
+# Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
+# Every command installs what it needs first; running it twice does no extra work.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+JOBS="${DNG_JOBS:-$(nproc 2>/dev/null || echo 2)}"
+WERROR="${DNG_WERROR:-OFF}"
+
+# Debian 12 packages. Build tools first, then the runtime's test libraries, then the baker's.
+PACKAGES_BUILD=(cmake ninja-build g++ pkg-config clang-format)
+PACKAGES_TEST=(libgtest-dev libgmock-dev libbenchmark-dev libxxhash-dev)
+PACKAGES_BAKER=(libopenmesh-dev libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev libcli11-dev
+                libtbb-dev libpng-dev)
+
+log() { printf 'setup.sh: %s\n' "$*" >&2; }
+
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; elif command -v sudo >/dev/null; then sudo "$@"; else
+    log "need root to run: $*"; exit 1
+  fi
+}
+
+install_packages() {
+  local missing=()
+  for pkg in "$@"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  log "installing ${missing[*]}"
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+deps() { install_packages "${PACKAGES_BUILD[@]}" "${PACKAGES_TEST[@]}" "${PACKAGES_BAKER[@]}"; }
+
+# configure_and_build <build-dir> [cmake args...]
+configure_and_build() {
+  local dir="$1"; shift
+  cmake -S "$ROOT" -B "$dir" -G Ninja -DDNG_WERROR="$WERROR" "$@" >/dev/null
+  cmake --build "$dir" --parallel "$JOBS"
+}
+
+run_tests() { ctest --test-dir "$1" --output-on-failure --parallel "$JOBS" --timeout 600; }
+
+cmd_test() {
+  deps
+  configure_and_build "$ROOT/build/release" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_TESTS=ON -DDNG_BUILD_BENCH=ON
+  run_tests "$ROOT/build/release"
+}
+
+cmd_asan() {
+  deps
+  configure_and_build "$ROOT/build/asan" -DCMAKE_BUILD_TYPE=ASan -DDNG_BUILD_TESTS=ON -DDNG_BUILD_SAMPLES=OFF
+  # A sanitizer build that silently lost its flags would pass everything: check the instrumentation.
+  if ! grep -q " __asan_" <(nm "$ROOT/build/asan/tests/reject_test"); then
+    log "the ASan build is not instrumented"; exit 1
+  fi
+  ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    run_tests "$ROOT/build/asan"
+}
+
+# The runtime must not need any baker library: make CMake unable to find them, and make sure no
+# format/ or runtime/ source includes their headers (which are installed on this machine).
+cmd_runtime_only() {
+  install_packages "${PACKAGES_BUILD[@]}" libgtest-dev libgmock-dev
+  if grep -rnE '#include *[<"](openvdb|nanovdb|embree[34]?|OpenMesh|CLI|tbb|oneapi)/' "$ROOT/format" "$ROOT/runtime"; then
+    log "format/ or runtime/ includes a baker library header"; exit 1
+  fi
+  configure_and_build "$ROOT/build/runtime-only" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BAKER=OFF \
+    -DDNG_BUILD_BENCH=OFF -DDNG_BUILD_TESTS=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON \
+    -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON \
+    -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON
+  run_tests "$ROOT/build/runtime-only"
+}
+
+cmd_format_check() {
+  install_packages clang-format
+  cd "$ROOT"
+  git ls-files -- '*.h' '*.hpp' '*.cpp' '*.c' | xargs clang-format --dry-run --Werror
+  log "clang-format: clean"
+}
+
+cmd_bench() {
+  deps
+  install_packages python3
+  configure_and_build "$ROOT/build/bench" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BENCH=ON -DDNG_BUILD_TESTS=OFF
+  bash "$ROOT/bench/run.sh" "$ROOT/build/bench"
+}
+
+cmd_demo() {
+  log "the demo is not available yet: it needs dngbake (issue #4) and the particle samples (issue #6)."
+  log "what works today: 'bash setup.sh test' builds the format and runtime and runs their tests."
+  exit 1
+}
+
+case "${1:-}" in
+  deps) deps ;;
+  test) cmd_test ;;
+  asan) cmd_asan ;;
+  runtime-only) cmd_runtime_only ;;
+  format-check) cmd_format_check ;;
+  bench) cmd_bench ;;
+  demo) cmd_demo ;;
+  *) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
+esac

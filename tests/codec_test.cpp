@@ -1,0 +1,107 @@
+// Bit codecs of the bricked encoding: precision of the octahedral normals and totality of every
+// decoder (every bit pattern gives finite values), which the query path relies on.
+#include "analytic_fields.h"
+#include "dng/format/codec.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace dng {
+namespace {
+
+using namespace format;
+
+std::vector<Vec3f> randomUnitVectors(std::size_t count) {
+  std::mt19937 rng(7);
+  std::normal_distribution<float> gauss;
+  std::vector<Vec3f> out;
+  while (out.size() < count) {
+    const Vec3f v = normalizeOrZero({gauss(rng), gauss(rng), gauss(rng)});
+    if (dot(v, v) > 0.0f) out.push_back(v);
+  }
+  // The folds of the octahedron are where encoders usually slip.
+  for (Vec3f axis : {Vec3f{1, 0, 0}, Vec3f{-1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{0, -1, 0}, Vec3f{0, 0, 1}, Vec3f{0, 0, -1},
+                     Vec3f{0.7071068f, 0.7071068f, 0}, Vec3f{-0.7071068f, 0, -0.7071068f}})
+    out.push_back(axis);
+  return out;
+}
+
+float maxOctError(int bits) {
+  float worst = 0.0f;
+  for (const Vec3f& n : randomUnitVectors(200000)) {
+    std::uint32_t u = 0, v = 0;
+    octEncode(n, bits, &u, &v);
+    EXPECT_LT(u, 1u << bits);
+    EXPECT_LT(v, 1u << bits);
+    worst = std::max(worst, testing::angleDegrees(n, octDecode(u, v, bits)));
+  }
+  return worst;
+}
+
+TEST(Octahedral, ElevenBitWordNormalsWithinATenthOfADegree) { EXPECT_LT(maxOctError(kWordOctBits), 0.1f); }
+
+TEST(Octahedral, FifteenBitPlaneNormalsWithinOneHundredthOfADegree) { EXPECT_LT(maxOctError(kPlaneOctBits), 0.01f); }
+
+TEST(Octahedral, EveryElevenBitPairDecodesToAFiniteUnitVector) {
+  for (std::uint32_t u = 0; u < (1u << kWordOctBits); ++u) {
+    for (std::uint32_t v = 0; v < (1u << kWordOctBits); ++v) {
+      const Vec3f n = octDecode(u, v, kWordOctBits);
+      ASSERT_NEAR(length(n), 1.0f, 1e-5f) << u << "," << v;
+    }
+  }
+}
+
+TEST(Octahedral, ZeroAndNonFiniteVectorsEncodePlusZ) {
+  std::uint32_t u = 0, v = 0;
+  octEncode({0, 0, 0}, kWordOctBits, &u, &v);
+  EXPECT_LT(testing::angleDegrees(octDecode(u, v, kWordOctBits), {0, 0, 1}), 0.1f);
+  octEncode({NAN, 0, 0}, kWordOctBits, &u, &v);
+  EXPECT_LT(testing::angleDegrees(octDecode(u, v, kWordOctBits), {0, 0, 1}), 0.1f);
+}
+
+TEST(DistanceCodes, RangeEndsAndCodeEndsAreExact) {
+  const float band = 3.7f;
+  EXPECT_EQ(rangeValue(0, band), -band);
+  EXPECT_EQ(rangeValue(kRangeMax, band), band);
+  const float lo = rangeValue(1234, band);
+  const float hi = rangeValue(54321, band);
+  const float step = brickDistanceStep(lo, hi);
+  EXPECT_EQ(wordDistance(packWord(5, 6, 0), lo, hi, step), lo);
+  EXPECT_EQ(wordDistance(packWord(5, 6, kWordDistanceMax), lo, hi, step), hi);
+}
+
+TEST(DistanceCodes, EveryRangeAndCodeIsFiniteAndInsideTheBand) {
+  const float band = 2.0f;
+  for (std::uint32_t lo16 = 0; lo16 <= kRangeMax; lo16 += 97) {
+    const std::uint32_t hi16 = kRangeMax - lo16 / 2; // covers hi < lo as in damaged files
+    const float lo = rangeValue(lo16, band), hi = rangeValue(hi16, band);
+    for (std::uint32_t code = 0; code <= kWordDistanceMax; code += 31) {
+      const float d = wordDistance(packWord(0, 0, code), lo, hi, brickDistanceStep(lo, hi));
+      ASSERT_TRUE(std::isfinite(d));
+      ASSERT_LE(std::fabs(d), band * 1.0001f);
+    }
+  }
+}
+
+TEST(TopEntries, PackAndUnpackRoundTrip) {
+  const std::uint64_t brick = packBrickEntry(kMaxPoolBricks - 1, 17, 65535);
+  EXPECT_EQ(entryKind(brick), TileKind::kBrick);
+  EXPECT_EQ(entryPoolIndex(brick), kMaxPoolBricks - 1);
+  EXPECT_EQ(entryLo16(brick), 17u);
+  EXPECT_EQ(entryHi16(brick), 65535u);
+
+  std::uint32_t u = 0, v = 0;
+  octEncode(normalizeOrZero({0.3f, -0.5f, -0.8f}), kPlaneOctBits, &u, &v);
+  const std::uint64_t plane = packPlaneEntry(u, v, -1.25f);
+  EXPECT_EQ(entryKind(plane), TileKind::kPlane);
+  EXPECT_EQ(entryPlaneDistance(plane), -1.25f);
+  EXPECT_LT(testing::angleDegrees(entryPlaneNormal(plane), {0.3f, -0.5f, -0.8f}), 0.01f);
+
+  EXPECT_EQ(entryKind(packFarEntry(TileKind::kFarInside)), TileKind::kFarInside);
+  EXPECT_EQ(packFarEntry(TileKind::kFarOutside), 0u);
+}
+
+} // namespace
+} // namespace dng

@@ -1,0 +1,85 @@
+// dng::File: mapping real files, reporting I/O failures, ownership.
+#include "dng/file.h"
+#include "sample_files.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <utility>
+
+#include <unistd.h>
+
+namespace dng {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FileTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dng_file_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const char* name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(FileTest, MappedFileAnswersLikeTheBytesItHolds) {
+  const auto bytes = testing::smallBrickedBox();
+  testing::writeFileBytes(path("box.dng"), bytes);
+  File file;
+  Diagnostic diag;
+  ASSERT_EQ(File::open(path("box.dng").c_str(), &file, &diag), Status::kOk) << diag.message;
+  View in_memory;
+  ASSERT_EQ(View::open(bytes.data(), bytes.size(), &in_memory), Status::kOk);
+  EXPECT_EQ(file.view().sizeBytes(), bytes.size());
+  EXPECT_EQ(file.view().verifyHashes(), Status::kOk);
+  for (float x = -12.0f; x < 12.0f; x += 0.37f) {
+    const Sample a = file.view().sample({x, 6.2f, 0.5f});
+    const Sample b = in_memory.sample({x, 6.2f, 0.5f});
+    ASSERT_EQ(a.status, b.status);
+    ASSERT_EQ(a.distance, b.distance);
+  }
+}
+
+TEST_F(FileTest, MoveTransfersOwnership) {
+  testing::writeFileBytes(path("plane.dng"), testing::smallDensePlane());
+  File a;
+  ASSERT_EQ(File::open(path("plane.dng").c_str(), &a), Status::kOk);
+  File b(std::move(a));
+  EXPECT_FALSE(a.valid());
+  ASSERT_TRUE(b.valid());
+  File c;
+  c = std::move(b);
+  EXPECT_FALSE(b.valid());
+  EXPECT_EQ(c.view().sample({1.0f, 1.0f, 0.9f}).status, SampleStatus::kInBand);
+}
+
+TEST_F(FileTest, MissingEmptyDirectoryAndDamagedFiles) {
+  File file;
+  Diagnostic diag;
+  EXPECT_EQ(File::open(path("absent.dng").c_str(), &file, &diag), Status::kIoError);
+  EXPECT_NE(std::string(diag.message).find("absent.dng"), std::string::npos) << diag.message;
+  testing::writeFileBytes(path("empty.dng"), {});
+  EXPECT_EQ(File::open(path("empty.dng").c_str(), &file), Status::kTruncated);
+  EXPECT_EQ(File::open(dir_.string().c_str(), &file), Status::kIoError);
+  auto bytes = testing::smallDensePlane();
+  bytes.resize(bytes.size() - 1);
+  testing::writeFileBytes(path("short.dng"), bytes);
+  EXPECT_EQ(File::open(path("short.dng").c_str(), &file, &diag), Status::kTruncated);
+  EXPECT_FALSE(file.valid());
+  EXPECT_EQ(File::open(nullptr, &file), Status::kInvalidArgument);
+}
+
+TEST_F(FileTest, FailedOpenReleasesWhatTheFileHeldBefore) {
+  testing::writeFileBytes(path("plane.dng"), testing::smallDensePlane());
+  File file;
+  ASSERT_EQ(File::open(path("plane.dng").c_str(), &file), Status::kOk);
+  EXPECT_EQ(File::open(path("absent.dng").c_str(), &file), Status::kIoError);
+  EXPECT_FALSE(file.valid());
+}
+
+} // namespace
+} // namespace dng

@@ -1,0 +1,65 @@
+#include "sample_files.h"
+
+#include "analytic_fields.h"
+
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+namespace dng {
+namespace testing {
+
+std::vector<std::uint8_t> smallBrickedBox() {
+  const format::GridGeometry grid = cubeGrid({-12, -12, -12}, 1.0f, 24, 2.0f);
+  format::BrickOptions options;
+  options.brick_size = 4;
+  const auto result = format::encodeBricked(sampleField(grid, boxField({0, 0, 0}, {6.25f, 6.25f, 6.25f})), options,
+                                            R"({"test":"small bricked box"})");
+  if (!result.ok()) throw std::runtime_error(result.error);
+  return result.bytes;
+}
+
+std::vector<std::uint8_t> smallDensePlane() {
+  format::GridGeometry grid;
+  grid.origin = {0.0f, 0.0f, 0.0f};
+  grid.voxel_size = 0.5f;
+  grid.dims[0] = 6;
+  grid.dims[1] = 5;
+  grid.dims[2] = 4;
+  grid.band = 1.0f;
+  const auto result =
+      format::encodeDense(sampleField(grid, planeField({0.2f, 0.1f, 1.0f}, 1.0f)), R"({"test":"small dense plane"})");
+  if (!result.ok()) throw std::runtime_error(result.error);
+  return result.bytes;
+}
+
+std::size_t entryOffset(const std::vector<std::uint8_t>& bytes, std::uint32_t tag) {
+  const auto header = peek<format::FileHeader>(bytes, 0);
+  for (std::uint32_t s = 0; s < header.section_count; ++s) {
+    const std::size_t at = header.section_table_offset + s * sizeof(format::SectionEntry);
+    if (peek<format::SectionEntry>(bytes, at).tag == tag) return at;
+  }
+  return 0;
+}
+
+format::SectionEntry entryOf(const std::vector<std::uint8_t>& bytes, std::uint32_t tag) {
+  const std::size_t at = entryOffset(bytes, tag);
+  return at == 0 ? format::SectionEntry{} : peek<format::SectionEntry>(bytes, at);
+}
+
+std::string goldenPath(const char* name) { return std::string(DNG_GOLDEN_DIR) + "/" + name; }
+
+std::vector<std::uint8_t> readFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeFileBytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+} // namespace testing
+} // namespace dng

@@ -1,0 +1,42 @@
+// Small, fully specified .dng files that several tests share, and byte-patching helpers.
+#pragma once
+
+#include "dng/format/layout.h"
+#include "dng/format/writer.h"
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace dng {
+namespace testing {
+
+/// 24^3 box field, brick size 4, band 2 voxels, with metadata. Holds every tile kind: far outside
+/// (corners), far inside (core), plane (faces) and brick (edges).
+std::vector<std::uint8_t> smallBrickedBox();
+/// 6x5x4 dense tilted-plane field with metadata.
+std::vector<std::uint8_t> smallDensePlane();
+
+/// Byte offset of the table entry of the first section with `tag`, or 0 when absent.
+std::size_t entryOffset(const std::vector<std::uint8_t>& bytes, std::uint32_t tag);
+/// The table entry of the first section with `tag` (zeroed when absent).
+format::SectionEntry entryOf(const std::vector<std::uint8_t>& bytes, std::uint32_t tag);
+
+/// Overwrites the trivially copyable `value` at `offset`.
+template <class T> void poke(std::vector<std::uint8_t>& bytes, std::size_t offset, const T& value) {
+  std::memcpy(bytes.data() + offset, &value, sizeof value);
+}
+template <class T> T peek(const std::vector<std::uint8_t>& bytes, std::size_t offset) {
+  T value;
+  std::memcpy(&value, bytes.data() + offset, sizeof value);
+  return value;
+}
+
+/// Path of a golden file in the source tree.
+std::string goldenPath(const char* name);
+std::vector<std::uint8_t> readFileBytes(const std::string& path);
+void writeFileBytes(const std::string& path, const std::vector<std::uint8_t>& bytes);
+
+} // namespace testing
+} // namespace dng
