@@ -4,9 +4,7 @@
 // ReadAccessor (distance + 3 forward differences for the normal, as a level-set user would).
 //
 // Every benchmark reports per_query (seconds); bench/run.sh turns them into ratios in docs/PERFORMANCE.md.
-#include "analytic_fields.h"
-#include "dng/format/writer.h"
-#include "dng/view.h"
+#include "sphere_scene.h"
 
 #include <benchmark/benchmark.h>
 
@@ -23,13 +21,13 @@ namespace {
 
 using namespace dng;
 
-constexpr std::uint32_t kGridSize = 128;
-constexpr float kBandVoxels = 3.0f;
+using bench::kBandVoxels;
+using bench::kGridSize;
 
 struct Data {
-  format::DenseField field;
-  std::vector<std::uint8_t> dense_bytes, bricked_bytes;
-  View dense, bricked;
+  const format::DenseField& field = bench::sphereScene().field;
+  const View& dense = bench::sphereScene().dense;
+  const View& bricked = bench::sphereScene().bricked;
   std::vector<Vec3f> coherent, random;
   std::vector<float> raw; // float4 per voxel
 #ifdef DNG_HAVE_NANOVDB
@@ -57,13 +55,6 @@ void makePoints(Data& d) {
 const Data& data() {
   static const Data* instance = [] {
     auto* d = new Data;
-    const float half = kGridSize / 2.0f;
-    d->field = testing::sampleField(testing::cubeGrid({-half, -half, -half}, 1.0f, kGridSize, kBandVoxels),
-                                    testing::sphereField({0.3f, 0.2f, 0.1f}, half * 0.75f));
-    d->dense_bytes = format::encodeDense(d->field, "").bytes;
-    d->bricked_bytes = format::encodeBricked(d->field, {}, "").bytes;
-    View::open(d->dense_bytes.data(), d->dense_bytes.size(), &d->dense);
-    View::open(d->bricked_bytes.data(), d->bricked_bytes.size(), &d->bricked);
     for (std::size_t v = 0; v < d->field.distance.size(); ++v) {
       const Vec3f n = d->field.normal[v];
       d->raw.insert(d->raw.end(), {d->field.distance[v], n.x, n.y, n.z});

@@ -3,18 +3,42 @@ import json
 import sys
 
 
-def medians(path):
+def medians(path, counter):
+    """Median of `counter` (seconds per item) in ns, and the label, per benchmark."""
     with open(path) as f:
         data = json.load(f)
     out = {}
     for b in data["benchmarks"]:
         if b.get("aggregate_name") == "median":
-            out[b["run_name"]] = (b["per_query"] * 1e9, b.get("label", ""))
+            out[b["run_name"]] = (b[counter] * 1e9, b.get("label", ""))
     return data["context"], out
 
 
-def main(path):
-    context, m = medians(path)
+def step_section(path):
+    _, m = medians(path, "per_particle")
+    base = m["BM_Step/2/0/real_time"][0]
+    print("\n## Particle steps (bench/particle_step_bench.cpp)\n")
+    print("1,048,576 particles within 2 voxels of the same sphere, random directions, up to 1 voxel per step, in "
+          "random order (as an emitter produces them). One step = `applyGravity` + `stepParticles`; every iteration "
+          "restarts from the same particle state. Baseline: the same step with no body.\n")
+    print("| body | responses | ns/particle | vs no collision |")
+    print("|---|---|---:|---:|")
+    for name, (ns, label) in sorted(m.items()):
+        parts = label.split(" ", 1)
+        body, responses = (parts[0], parts[1]) if len(parts) == 2 and parts[0] in ("dense", "bricked") else ("none", label)
+        print("| %s | %s | %.1f | %.2f |" % (body, responses, ns, ns / base))
+    got = m["BM_Step/1/2/real_time"][0] / base
+    print("\n**Goal (issue #3): collision overhead at most 1.3x the no-collision step. Measured: %.1fx for bricked "
+          "impact+drag+flow, %s.**" % (got, "reached" if got <= 1.3 else "not reached"))
+    if got > 1.3:
+        print("The no-collision step here is only gravity plus integration, a streaming loop at ~5 ns per particle "
+              "bound by memory bandwidth; each collision step adds a field lookup in random order (a cache miss, see "
+              "the random-order query rows above) plus the responses. The paper's 1.44x was measured against whole "
+              "frames of a minimal particle system, not against a bare integration loop.")
+
+
+def main(path, step_path=None):
+    context, m = medians(path, "per_query")
     raw = {0: m["BM_RawArray/0"][0], 1: m["BM_RawArray/1"][0]}
     nano = {k: m.get("BM_NanoVdb/%d" % k, (None,))[0] for k in (0, 1)}
     print("# Performance\n")
@@ -51,5 +75,9 @@ def main(path):
               "points, not further scalar tuning.")
 
 
+    if step_path:
+        step_section(step_path)
+
+
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(*sys.argv[1:])

@@ -6,8 +6,11 @@
 set -euo pipefail
 build="${1:?usage: bench/run.sh BUILD_DIR}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
-json="$build/field_query_bench.json"
-"$build/bench/field_query_bench" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
-  --benchmark_report_aggregates_only=true --benchmark_format=json >"$json"
-python3 "$root/bench/report.py" "$json" >"$root/docs/PERFORMANCE.md"
+for program in field_query_bench particle_step_bench; do
+  echo "bench/run.sh: running $program" >&2
+  "$build/bench/$program" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
+    --benchmark_report_aggregates_only=true --benchmark_format=json >"$build/$program.json"
+done
+python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle_step_bench.json" \
+  >"$root/docs/PERFORMANCE.md"
 echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2

@@ -80,6 +80,11 @@ public:
   /// Separate from open() on purpose; nothing in a file can switch it off.
   Status verifyHashes(Diagnostic* out_diag = nullptr) const;
 
+  /// Distance from the surface (local units) within which nearest queries are guaranteed to answer
+  /// kInBand with a normal: band - sqrt(3)/2 * voxel_size, because a point belongs to its voxel and
+  /// the voxel counts as far when its centre is. A particle system's design speed is this reach / dt.
+  float guaranteedReach() const { return grid_.band - 0.8660254f * grid_.voxel_size; }
+
   const GridInfo& grid() const { return grid_; }
   const TileCounts& tileCounts() const { return tiles_; }
   std::uint16_t versionMajor() const { return version_major_; }

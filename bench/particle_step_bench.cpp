@@ -1,0 +1,88 @@
+// Per-particle step cost for 1M particles near a sphere: the full step (gravity + stepParticles)
+// with a sphere body against the same step with no body, in one run (issue #3's goal: collision
+// overhead <= 1.3x the no-collision step; the paper's compressed grid cost 1.44x, Table 1).
+#include "dng/forces.h"
+#include "dng/particles.h"
+#include "sphere_scene.h"
+
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+namespace {
+
+using namespace dng;
+
+constexpr std::size_t kParticles = 1 << 20;
+constexpr float kDt = 1.0f / 60.0f;
+
+// Particles within 2 voxels of the sphere, moving in random directions at up to 1 voxel per step.
+struct Swarm {
+  std::vector<float> px, py, pz, vx, vy, vz;
+  ParticleSpan span() {
+    ParticleSpan s;
+    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
+    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
+    s.count = px.size();
+    return s;
+  }
+};
+
+const Swarm& pristineSwarm() {
+  static const Swarm* swarm = [] {
+    auto* s = new Swarm;
+    std::mt19937 rng(17);
+    std::normal_distribution<float> gauss;
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    while (s->px.size() < kParticles) {
+      const Vec3f dir = normalizeOrZero({gauss(rng), gauss(rng), gauss(rng)});
+      const Vec3f p = Vec3f{0.3f, 0.2f, 0.1f} + dir * (bench::kRadius + 0.1f + 1.9f * unit(rng));
+      const Vec3f v = normalizeOrZero({gauss(rng), gauss(rng), gauss(rng)}) * (unit(rng) / kDt);
+      s->px.push_back(p.x), s->py.push_back(p.y), s->pz.push_back(p.z);
+      s->vx.push_back(v.x), s->vy.push_back(v.y), s->vz.push_back(v.z);
+    }
+    return s;
+  }();
+  return *swarm;
+}
+
+Material materialFor(int responses) {
+  Material m;
+  m.restitution = 0.5f;
+  m.collision_distance = 0.1f;
+  if (responses >= 2) {
+    m.drag = 2.0f, m.contact_distance = 1.0f;
+    m.flow_in = 12.0f, m.flow_out = 3.0f, m.flow_distance = 2.0f;
+  }
+  m.swept = responses == 3;
+  return m;
+}
+
+// Arguments: encoding (0 dense, 1 bricked, 2 no body), responses (1 impact, 2 impact+drag+flow, 3 the same, swept).
+void BM_Step(benchmark::State& state) {
+  const auto& scene = bench::sphereScene();
+  Swarm swarm = pristineSwarm();
+  Body body;
+  const bool with_body = state.range(0) != 2;
+  if (with_body)
+    Body::create(state.range(0) == 0 ? &scene.dense : &scene.bricked, materialFor(int(state.range(1))), &body);
+  for (auto _ : state) {
+    state.PauseTiming(); // every iteration steps the same particles from the same state
+    swarm = pristineSwarm();
+    state.ResumeTiming();
+    applyGravity(swarm.span(), {0.0f, 0.0f, -9.81f}, kDt);
+    stepParticles(swarm.span(), kDt, with_body ? &body : nullptr, with_body ? 1 : 0);
+    benchmark::DoNotOptimize(swarm.px.data());
+    benchmark::ClobberMemory();
+  }
+  static const char* const kResponses[] = {"", "impact", "impact+drag+flow", "impact+drag+flow swept"};
+  state.SetLabel(with_body ? std::string(state.range(0) ? "bricked " : "dense ") + kResponses[state.range(1)]
+                           : std::string("no collision"));
+  state.counters["per_particle"] = benchmark::Counter(
+      double(kParticles), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_Step)->Args({2, 0})->ArgsProduct({{0, 1}, {1, 2, 3}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+} // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,167 @@
+/* dng.h: the C ABI of the dngrid runtime (libdngrid).
+ *
+ * Plain C89-compatible declarations: opaque handles, fixed-width integers and size_t only, a status
+ * code on every call that can fail plus an optional message buffer the caller supplies. Nothing here
+ * throws, aborts or allocates except the create/open calls. Thread safety: a dng_field may be sampled
+ * from any number of threads; a dng_scene must not be changed while it is being stepped.
+ *
+ * Check at start-up that the library matches the header you compiled against:
+ *   if (!dng_version_compatible(DNG_VERSION)) { ... }
+ */
+#ifndef DNG_DNG_H
+#define DNG_DNG_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "dng/version.h"
+
+#if defined(_WIN32)
+#if defined(DNG_BUILDING_LIBRARY)
+#define DNG_API __declspec(dllexport)
+#else
+#define DNG_API __declspec(dllimport)
+#endif
+#elif defined(__GNUC__) || defined(__clang__)
+#define DNG_API __attribute__((visibility("default")))
+#else
+#define DNG_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- Status: the same numbers as dng::Status in C++. ---- */
+typedef int32_t dng_status;
+#define DNG_OK 0
+#define DNG_INVALID_ARGUMENT 1
+#define DNG_IO_ERROR 2
+#define DNG_UNSUPPORTED_HOST 3
+#define DNG_TRUNCATED 4
+#define DNG_TRAILING_BYTES 5
+#define DNG_BAD_MAGIC 6
+#define DNG_UNSUPPORTED_VERSION 7
+#define DNG_BAD_HEADER 8
+#define DNG_HEADER_HASH_MISMATCH 9
+#define DNG_BAD_SECTION_TABLE 10
+#define DNG_SECTION_TABLE_HASH_MISMATCH 11
+#define DNG_SECTION_OUT_OF_BOUNDS 12
+#define DNG_SECTION_MISALIGNED 13
+#define DNG_SECTION_OVERLAP 14
+#define DNG_UNKNOWN_REQUIRED_SECTION 15
+#define DNG_DUPLICATE_SECTION 16
+#define DNG_MISSING_SECTION 17
+#define DNG_BAD_GRID 18
+#define DNG_UNSUPPORTED_ENCODING 19
+#define DNG_BAD_PAYLOAD_SIZE 20
+#define DNG_BAD_TILE_ENTRY 21
+#define DNG_BAD_VALUE 22
+#define DNG_SECTION_HASH_MISMATCH 23
+#define DNG_OUT_OF_MEMORY 24
+
+/** Static English description of a status; never NULL. */
+DNG_API const char* dng_status_string(dng_status status);
+
+/** DNG_VERSION of the library itself. */
+DNG_API uint32_t dng_version(void);
+/** 1 when a program built against header version `header_version` (pass DNG_VERSION) can use this
+ *  library: same major version, and the library's minor version is at least the header's. Else 0. */
+DNG_API int32_t dng_version_compatible(uint32_t header_version);
+
+/* ---- Fields ---- */
+typedef struct dng_field dng_field;
+
+#define DNG_SAMPLE_NO_FIELD 0
+#define DNG_SAMPLE_FAR_OUTSIDE 1
+#define DNG_SAMPLE_FAR_INSIDE 2
+#define DNG_SAMPLE_IN_BAND 3
+
+#define DNG_INTERPOLATION_NEAREST 0
+#define DNG_INTERPOLATION_TRILINEAR 1
+
+/** One query result; see docs/RUNTIME.md for what each status means. */
+typedef struct dng_sample {
+  float distance;
+  float normal[3];
+  uint32_t status; /* DNG_SAMPLE_* */
+} dng_sample;
+
+/** Maps and validates a .dng file. On success *out_field owns the mapping (dng_field_close frees it).
+ *  On failure *out_field is NULL and, when out_message is not NULL, a NUL-terminated explanation of at
+ *  most message_capacity bytes is written there. Safe on any file. */
+DNG_API dng_status dng_field_open_file(const char* path, dng_field** out_field, char* out_message,
+                                       size_t message_capacity);
+/** Validates caller-owned bytes (8-byte aligned) without copying; they must outlive the field. */
+DNG_API dng_status dng_field_open_memory(const void* bytes, size_t size, dng_field** out_field, char* out_message,
+                                         size_t message_capacity);
+/** Recomputes every section hash (the full check, O(file size)). */
+DNG_API dng_status dng_field_verify(const dng_field* field, char* out_message, size_t message_capacity);
+/** Frees a field; NULL is allowed. Close bodies' scenes first. */
+DNG_API void dng_field_close(dng_field* field);
+/** The field at a grid-local point. A NULL field answers DNG_SAMPLE_NO_FIELD. */
+DNG_API dng_sample dng_field_sample(const dng_field* field, float x, float y, float z, uint32_t interpolation);
+
+/* ---- Materials, scenes of bodies, stepping ---- */
+#define DNG_RESPONSE_IMPACT 0
+#define DNG_RESPONSE_SPRING 1
+#define DNG_RESPONSE_NONE 2
+
+/** Mirrors dng::Material (dng/body.h); fill it with dng_material_default first. */
+typedef struct dng_material {
+  uint32_t response;        /* DNG_RESPONSE_* */
+  float restitution;        /* beta */
+  float collision_distance; /* L, world units */
+  float spring_stiffness;   /* 1/s^2 */
+  float spring_distance;    /* world units; 0 = the field's band */
+  float drag;               /* delta, 1/s */
+  float contact_distance;   /* theta, world units */
+  float flow_in;            /* rho_in, world units/s^2 */
+  float flow_out;           /* rho_out */
+  float flow_distance;      /* world units */
+  uint32_t swept;           /* 1 = trace each step's segment so fast particles cannot tunnel */
+} dng_material;
+
+DNG_API void dng_material_default(dng_material* out_material);
+
+/** A set of bodies stepped together. Bodies refer to fields, which must outlive the scene. */
+typedef struct dng_scene dng_scene;
+
+DNG_API dng_status dng_scene_create(dng_scene** out_scene);
+DNG_API void dng_scene_destroy(dng_scene* scene);
+/** Adds a body of `field` at the identity transform; its index is written to *out_index. */
+DNG_API dng_status dng_scene_add_body(dng_scene* scene, const dng_field* field, const dng_material* material,
+                                      uint32_t* out_index, char* out_message, size_t message_capacity);
+/** Row-major 3x4 [s*R | t]; shear, non-uniform scale and reflections are rejected. */
+DNG_API dng_status dng_scene_set_transform(dng_scene* scene, uint32_t body, const float row_major_3x4[12],
+                                           char* out_message, size_t message_capacity);
+/** World linear velocity and angular velocity (rad/s) about the body origin. */
+DNG_API dng_status dng_scene_set_velocity(dng_scene* scene, uint32_t body, const float linear[3],
+                                          const float angular[3]);
+DNG_API dng_status dng_scene_set_material(dng_scene* scene, uint32_t body, const dng_material* material,
+                                          char* out_message, size_t message_capacity);
+
+/** Mirrors dng::ParticleSpan: strides in bytes; out_contact and out_body may be NULL. */
+typedef struct dng_particles {
+  float* position_x;
+  float* position_y;
+  float* position_z;
+  size_t position_stride;
+  float* velocity_x;
+  float* velocity_y;
+  float* velocity_z;
+  size_t velocity_stride;
+  size_t count;
+  uint8_t* out_contact;
+  int32_t* out_body;
+} dng_particles;
+
+/** One step of dt seconds for every particle against every body of the scene (dng::stepParticles). */
+DNG_API dng_status dng_scene_step(const dng_scene* scene, const dng_particles* particles, float dt, char* out_message,
+                                  size_t message_capacity);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DNG_DNG_H */

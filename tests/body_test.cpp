@@ -1,0 +1,104 @@
+// Bodies: placing fields with rigid transforms and uniform scale, refusing what breaks normals.
+#include "analytic_fields.h"
+#include "dng/body.h"
+#include "sample_files.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace dng {
+namespace {
+
+class BodyTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    bytes_ = testing::smallBrickedBox();
+    ASSERT_EQ(View::open(bytes_.data(), bytes_.size(), &view_), Status::kOk);
+    ASSERT_EQ(Body::create(&view_, Material(), &body_), Status::kOk);
+  }
+  std::vector<std::uint8_t> bytes_;
+  View view_;
+  Body body_;
+};
+
+TEST_F(BodyTest, RotationTranslationAndScaleRoundTrip) {
+  const float c = std::cos(0.7f), s = std::sin(0.7f), k = 2.5f;
+  const float m[12] = {k * c, -k * s, 0, 10, k * s, k * c, 0, -3, 0, 0, k, 1};
+  ASSERT_EQ(body_.setTransform(m), Status::kOk);
+  EXPECT_FLOAT_EQ(body_.scale(), 2.5f);
+  const Vec3f local{1.0f, 2.0f, 3.0f};
+  const Vec3f world = body_.toWorld(local);
+  EXPECT_NEAR(world.x, 10 + k * (c * 1 - s * 2), 1e-4f);
+  const Vec3f back = body_.toLocal(world);
+  EXPECT_NEAR(back.x, 1.0f, 1e-5f);
+  EXPECT_NEAR(back.y, 2.0f, 1e-5f);
+  EXPECT_NEAR(back.z, 3.0f, 1e-5f);
+  // The box's world bounds contain every transformed grid corner.
+  const Vec3f corner = body_.toWorld({12.0f, 12.0f, 12.0f});
+  EXPECT_GE(corner.x, body_.boundsMin().x);
+  EXPECT_LE(corner.x, body_.boundsMax().x + 1e-4f);
+}
+
+TEST_F(BodyTest, QuaternionFormMatchesMatrixForm) {
+  const float half = 0.35f;
+  const float q[4] = {std::cos(half), 0.0f, 0.0f, std::sin(half)}; // 0.7 rad about z
+  ASSERT_EQ(body_.setTransform({10, -3, 1}, q, 2.5f), Status::kOk);
+  const Vec3f a = body_.toWorld({1, 2, 3});
+  const float c = std::cos(0.7f), s = std::sin(0.7f), k = 2.5f;
+  const float m[12] = {k * c, -k * s, 0, 10, k * s, k * c, 0, -3, 0, 0, k, 1};
+  ASSERT_EQ(body_.setTransform(m), Status::kOk);
+  const Vec3f b = body_.toWorld({1, 2, 3});
+  EXPECT_NEAR(a.x, b.x, 1e-4f);
+  EXPECT_NEAR(a.y, b.y, 1e-4f);
+  EXPECT_NEAR(a.z, b.z, 1e-4f);
+}
+
+TEST_F(BodyTest, RejectsWhatBreaksNormalsAndKeepsThePreviousTransform) {
+  const float good[12] = {2, 0, 0, 5, 0, 2, 0, 0, 0, 0, 2, 0};
+  ASSERT_EQ(body_.setTransform(good), Status::kOk);
+  const float shear[12] = {1, 0.5f, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  const float non_uniform[12] = {1, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0};
+  const float mirror[12] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  const float zero[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  const float nan[12] = {NAN, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  for (const float* m : {shear, non_uniform, mirror, zero, nan}) {
+    Diagnostic diag;
+    EXPECT_EQ(body_.setTransform(m, &diag), Status::kInvalidArgument);
+    EXPECT_NE(diag.message[0], '\0');
+  }
+  Diagnostic diag;
+  body_.setTransform(shear, &diag);
+  EXPECT_NE(std::string(diag.message).find("shear"), std::string::npos);
+  body_.setTransform(non_uniform, &diag);
+  EXPECT_NE(std::string(diag.message).find("non-uniform"), std::string::npos);
+  EXPECT_FLOAT_EQ(body_.scale(), 2.0f);
+  EXPECT_FLOAT_EQ(body_.translation().x, 5.0f);
+}
+
+TEST_F(BodyTest, RejectsInvalidFieldsAndMaterials) {
+  Body body;
+  EXPECT_EQ(Body::create(nullptr, Material(), &body), Status::kInvalidArgument);
+  View empty;
+  EXPECT_EQ(Body::create(&empty, Material(), &body), Status::kInvalidArgument);
+  EXPECT_FALSE(body.valid());
+  Material bad;
+  bad.restitution = -0.5f;
+  EXPECT_EQ(Body::create(&view_, bad, &body), Status::kInvalidArgument);
+  bad = Material();
+  bad.drag = NAN;
+  EXPECT_EQ(body_.setMaterial(bad), Status::kInvalidArgument);
+  bad = Material();
+  bad.response = Response(9);
+  EXPECT_EQ(body_.setMaterial(bad), Status::kInvalidArgument);
+}
+
+TEST_F(BodyTest, SurfaceVelocityIncludesRotation) {
+  body_.setVelocity({1, 0, 0}, {0, 0, 2}); // spinning about +z at 2 rad/s
+  const Vec3f v = body_.surfaceVelocity({0, 3, 0});
+  EXPECT_FLOAT_EQ(v.x, 1.0f - 6.0f);
+  EXPECT_FLOAT_EQ(v.y, 0.0f);
+}
+
+} // namespace
+} // namespace dng
