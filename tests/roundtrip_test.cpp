@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
 
 namespace dng {
 namespace {
@@ -201,6 +202,31 @@ TEST(Batch, StridedBatchEqualsSingleQueries) {
           view.sample({particles[n].position[0], particles[n].position[1], particles[n].position[2]}, mode);
       ASSERT_EQ(out[n].status, one.status);
       ASSERT_EQ(out[n].distance, one.distance);
+    }
+  }
+}
+
+// Queries are const and touch no shared mutable state: concurrent samplers see what one thread sees.
+TEST(Threads, ConcurrentQueriesMatchSingleThreaded) {
+  const Opened opened = openOrDie(
+      format::encodeBricked(testing::sampleField(sceneGrid(), testing::sphereField({0, 0, 0}, 12.0f)), {}, ""));
+  const auto points = testing::randomPoints({-20, -20, -20}, {20, 20, 20}, 20000, 8);
+  std::vector<Sample> expected(points.size());
+  opened.view.sampleBatch(&points[0].x, sizeof(Vec3f), points.size(), expected.data(), Interpolation::kTrilinear);
+  std::vector<std::vector<Sample>> results(4, std::vector<Sample>(points.size()));
+  std::vector<std::thread> threads;
+  for (auto& out : results) {
+    threads.emplace_back([&] {
+      for (std::size_t n = 0; n < points.size(); ++n)
+        out[n] = opened.view.sample(points[n], Interpolation::kTrilinear);
+    });
+  }
+  for (auto& t : threads)
+    t.join();
+  for (const auto& out : results) {
+    for (std::size_t n = 0; n < points.size(); ++n) {
+      ASSERT_EQ(out[n].status, expected[n].status);
+      ASSERT_EQ(out[n].distance, expected[n].distance);
     }
   }
 }

@@ -1,0 +1,105 @@
+// Mesh diagnostics (DESIGN.md §4.2): what the user should know about their mesh before baking, and
+// whether it can be baked at all.
+#include "baker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Zero area, relative to the triangle's own size so that tiny but valid triangles still count.
+bool degenerate(const TriangleSoup& soup, const std::array<std::uint32_t, 3>& t) {
+  if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
+  const Vec3f a = soup.vertices[t[0]], b = soup.vertices[t[1]], c = soup.vertices[t[2]];
+  const float longest = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+  return !(length(cross(b - a, c - a)) > 1e-7f * longest);
+}
+
+// Counts edges used once (boundary) and three or more times (non-manifold).
+void countEdges(const TriangleSoup& soup, MeshReport* io) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(soup.triangles.size() * 3);
+  for (const auto& t : soup.triangles) {
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i])
+      ++j;
+    io->boundary_edges += j - i == 1 ? 1 : 0;
+    io->non_manifold_edges += j - i >= 3 ? 1 : 0;
+    i = j;
+  }
+}
+
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t v) {
+  while (parent[v] != v)
+    v = parent[v] = parent[parent[v]]; // path halving
+  return v;
+}
+
+std::uint64_t countComponents(const TriangleSoup& soup) {
+  std::vector<std::uint32_t> parent(soup.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  std::vector<bool> used(soup.vertices.size(), false);
+  for (const auto& t : soup.triangles) {
+    for (int e = 0; e < 3; ++e) {
+      used[t[e]] = true;
+      parent[findRoot(parent, t[e])] = findRoot(parent, t[(e + 1) % 3]);
+    }
+  }
+  std::uint64_t roots = 0;
+  for (std::uint32_t v = 0; v < parent.size(); ++v)
+    roots += used[v] && findRoot(parent, v) == v ? 1 : 0;
+  return roots;
+}
+
+} // namespace
+
+MeshReport checkMesh(const TriangleSoup& soup) {
+  MeshReport r;
+  r.vertices = soup.vertices.size();
+  r.triangles = soup.triangles.size();
+  bool first = true;
+  for (const Vec3f& v : soup.vertices) {
+    if (!finite(v)) {
+      ++r.non_finite_vertices;
+      continue;
+    }
+    r.bounds_min =
+        first ? v : Vec3f{std::min(r.bounds_min.x, v.x), std::min(r.bounds_min.y, v.y), std::min(r.bounds_min.z, v.z)};
+    r.bounds_max =
+        first ? v : Vec3f{std::max(r.bounds_max.x, v.x), std::max(r.bounds_max.y, v.y), std::max(r.bounds_max.z, v.z)};
+    first = false;
+  }
+  for (const auto& t : soup.triangles)
+    r.degenerate_triangles += degenerate(soup, t) ? 1 : 0;
+  countEdges(soup, &r);
+  r.components = countComponents(soup);
+  return r;
+}
+
+BakeStatus requireBakeable(const MeshReport& r) {
+  if (r.triangles == 0) return BakeStatus::failure(ExitCode::kInvalidInput, "the mesh has no faces");
+  if (r.non_finite_vertices > 0)
+    return BakeStatus::failure(ExitCode::kInvalidInput,
+                               std::to_string(r.non_finite_vertices) + " vertices have NaN or infinite coordinates");
+  if (r.degenerate_triangles == r.triangles)
+    return BakeStatus::failure(ExitCode::kInvalidInput,
+                               "all " + std::to_string(r.triangles) + " triangles are degenerate (zero area)");
+  return BakeStatus::success();
+}
+
+} // namespace baker
+} // namespace dng

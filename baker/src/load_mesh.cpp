@@ -1,0 +1,189 @@
+// Mesh loading through OpenMesh's readers into a triangle soup.
+//
+// Why not read into an OpenMesh PolyMesh: its kernel refuses faces that would make an edge
+// non-manifold ("complex edge") and splits non-manifold vertices, so triangles would vanish or move
+// silently. A BaseImporter of our own receives exactly what the file says.
+#include "baker.h"
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+namespace om = OpenMesh;
+
+// Records vertices and faces; ignores normals, colours, texture coordinates and status bits.
+class SoupImporter final : public om::IO::BaseImporter {
+public:
+  explicit SoupImporter(TriangleSoup* soup) : soup_(soup) {}
+
+  om::VertexHandle add_vertex(const om::Vec3f& p) override {
+    soup_->vertices.push_back({p[0], p[1], p[2]});
+    return om::VertexHandle(int(soup_->vertices.size() - 1));
+  }
+  om::VertexHandle add_vertex() override { return add_vertex(om::Vec3f(0.0f, 0.0f, 0.0f)); }
+  om::HalfedgeHandle add_edge(om::VertexHandle, om::VertexHandle) override { return om::HalfedgeHandle(); }
+  om::FaceHandle add_face(const VHandles& indices) override {
+    ++soup_->polygons;
+    for (const om::VertexHandle& v : indices) {
+      if (!v.is_valid() || std::size_t(v.idx()) >= soup_->vertices.size()) {
+        ++soup_->faces_with_bad_index;
+        return om::FaceHandle();
+      }
+    }
+    for (std::size_t i = 2; i < indices.size(); ++i) // fan: exact for the convex polygons files hold
+      soup_->triangles.push_back(
+          {std::uint32_t(indices[0].idx()), std::uint32_t(indices[i - 1].idx()), std::uint32_t(indices[i].idx())});
+    return om::FaceHandle(int(soup_->polygons - 1));
+  }
+  om::FaceHandle add_face(om::HalfedgeHandle) override { return om::FaceHandle(); }
+  void set_point(om::VertexHandle v, const om::Vec3f& p) override {
+    if (v.is_valid() && std::size_t(v.idx()) < soup_->vertices.size()) soup_->vertices[v.idx()] = {p[0], p[1], p[2]};
+  }
+  size_t n_vertices() const override { return soup_->vertices.size(); }
+  size_t n_faces() const override { return std::size_t(soup_->polygons); }
+  size_t n_edges() const override { return 0; }
+
+  // Attributes the baker does not use.
+  void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec2f>&) override {}
+  void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec3f>&) override {}
+  void set_face_texindex(om::FaceHandle, int) override {}
+  void set_halfedge(om::VertexHandle, om::HalfedgeHandle) override {}
+  void set_normal(om::VertexHandle, const om::Vec3f&) override {}
+  void set_normal(om::VertexHandle, const om::Vec3d&) override {}
+  void set_color(om::VertexHandle, const om::Vec3uc&) override {}
+  void set_color(om::VertexHandle, const om::Vec4uc&) override {}
+  void set_color(om::VertexHandle, const om::Vec3f&) override {}
+  void set_color(om::VertexHandle, const om::Vec4f&) override {}
+  void set_texcoord(om::VertexHandle, const om::Vec2f&) override {}
+  void set_status(om::VertexHandle, const om::Attributes::StatusInfo&) override {}
+  void set_next(om::HalfedgeHandle, om::HalfedgeHandle) override {}
+  void set_face(om::HalfedgeHandle, om::FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(om::HalfedgeHandle, const om::Vec2f&) override {}
+  void set_texcoord(om::VertexHandle, const om::Vec3f&) override {}
+  void set_texcoord(om::HalfedgeHandle, const om::Vec3f&) override {}
+  void set_status(om::HalfedgeHandle, const om::Attributes::StatusInfo&) override {}
+  void set_color(om::EdgeHandle, const om::Vec3uc&) override {}
+  void set_color(om::EdgeHandle, const om::Vec4uc&) override {}
+  void set_color(om::EdgeHandle, const om::Vec3f&) override {}
+  void set_color(om::EdgeHandle, const om::Vec4f&) override {}
+  void set_status(om::EdgeHandle, const om::Attributes::StatusInfo&) override {}
+  void set_normal(om::FaceHandle, const om::Vec3f&) override {}
+  void set_normal(om::FaceHandle, const om::Vec3d&) override {}
+  void set_color(om::FaceHandle, const om::Vec3uc&) override {}
+  void set_color(om::FaceHandle, const om::Vec4uc&) override {}
+  void set_color(om::FaceHandle, const om::Vec3f&) override {}
+  void set_color(om::FaceHandle, const om::Vec4f&) override {}
+  void set_status(om::FaceHandle, const om::Attributes::StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+
+private:
+  TriangleSoup* soup_;
+};
+
+// Routes OpenMesh's error log into a string for as long as it lives, instead of stderr.
+class CapturedReaderLog {
+public:
+  CapturedReaderLog() {
+    ::omerr().disconnect(std::cerr);
+    ::omerr().connect(buffer_);
+  }
+  ~CapturedReaderLog() {
+    ::omerr().flush();
+    ::omerr().disconnect(buffer_);
+    ::omerr().connect(std::cerr);
+  }
+  CapturedReaderLog(const CapturedReaderLog&) = delete;
+  CapturedReaderLog& operator=(const CapturedReaderLog&) = delete;
+  std::vector<std::string> lines() {
+    ::omerr().flush();
+    std::vector<std::string> out;
+    std::istringstream in(buffer_.str());
+    for (std::string line; std::getline(in, line);) {
+      if (!line.empty()) out.push_back(line);
+    }
+    return out;
+  }
+
+private:
+  std::ostringstream buffer_;
+};
+
+// OpenMesh 9.0's PLY reader trusts the header's element counts: a malformed count ("element vertex
+// banana") made it spin for 85 s and then throw (measured). Check the header first: every count must
+// be a plain number the file is large enough to hold (at least one byte per element).
+BakeStatus checkPlyHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  std::string line;
+  for (int n = 0; n < 1000 && std::getline(in, line); ++n) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line == "end_header") return BakeStatus::success();
+    std::istringstream words(line);
+    std::string keyword, name, count;
+    words >> keyword >> name >> count;
+    if (keyword != "element") continue;
+    const bool digits = !count.empty() && count.size() < 19 &&
+                        std::all_of(count.begin(), count.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+    if (!digits || std::stoull(count) > size)
+      return BakeStatus::failure(ExitCode::kInvalidInput,
+                                 "'" + path + "': PLY header line '" + line + "' has an impossible element count");
+  }
+  return BakeStatus::failure(ExitCode::kInvalidInput, "'" + path + "': PLY header has no end_header line");
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+} // namespace
+
+BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
+  *out_soup = TriangleSoup();
+  const std::string ext = lowerExtension(path);
+  static const char* const kSupported[] = {".obj", ".off", ".ply", ".stl", ".om"};
+  if (std::find(std::begin(kSupported), std::end(kSupported), ext) == std::end(kSupported))
+    return BakeStatus::failure(ExitCode::kUnsupported,
+                               "'" + path + "': unknown mesh format '" + ext + "' (use .obj, .off, .ply, .stl or .om)");
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    return BakeStatus::failure(ExitCode::kIo, "'" + path + "': no such file");
+  if (ext == ".ply") {
+    const BakeStatus header = checkPlyHeader(path);
+    if (!header.ok()) return header;
+  }
+  TriangleSoup soup;
+  SoupImporter importer(&soup);
+  CapturedReaderLog log;
+  om::IO::Options options;
+  bool read = false;
+  try {
+    read = om::IO::IOManager().read(path, importer, options);
+  } catch (const std::exception& e) { // OpenMesh's readers may throw on malformed files
+    soup.reader_messages.insert(soup.reader_messages.begin(), e.what());
+  }
+  const std::vector<std::string> logged = log.lines();
+  soup.reader_messages.insert(soup.reader_messages.end(), logged.begin(), logged.end());
+  if (!read) {
+    const std::string why = soup.reader_messages.empty() ? "" : ": " + soup.reader_messages.front();
+    return BakeStatus::failure(ExitCode::kIo, "'" + path + "': OpenMesh could not read it" + why);
+  }
+  *out_soup = std::move(soup);
+  return BakeStatus::success();
+}
+
+} // namespace baker
+} // namespace dng

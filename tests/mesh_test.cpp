@@ -1,0 +1,189 @@
+// Baker stage 1-2: loading meshes with OpenMesh into a soup, and the mesh checks.
+#include "baker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+namespace dng {
+namespace baker {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A unit cube as 8 vertices and 6 quads, outward winding.
+const float kCubeVertices[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const int kCubeQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+
+class MeshTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dng_mesh_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  // The cube as OBJ; `skip_face` >= 0 leaves one face out (an open box).
+  std::string cubeObj(const std::string& name, int skip_face = -1, float offset = 0.0f) const {
+    std::string text;
+    for (const auto& v : kCubeVertices)
+      text += "v " + std::to_string(v[0] + offset) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]) + "\n";
+    for (int f = 0; f < 6; ++f) {
+      if (f == skip_face) continue;
+      text += "f";
+      for (int i : kCubeQuads[f])
+        text += " " + std::to_string(i + 1);
+      text += "\n";
+    }
+    return write(name, text);
+  }
+  TriangleSoup load(const std::string& path) {
+    TriangleSoup soup;
+    const BakeStatus status = loadMesh(path, &soup);
+    EXPECT_TRUE(status.ok()) << status.message;
+    return soup;
+  }
+  fs::path dir_;
+};
+
+TEST_F(MeshTest, ClosedCubeFromObjIsTriangulatedAndClosed) {
+  const TriangleSoup soup = load(cubeObj("cube.obj"));
+  EXPECT_EQ(soup.polygons, 6u);
+  const MeshReport r = checkMesh(soup);
+  EXPECT_EQ(r.vertices, 8u);
+  EXPECT_EQ(r.triangles, 12u);
+  EXPECT_EQ(r.boundary_edges, 0u);
+  EXPECT_EQ(r.non_manifold_edges, 0u);
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.degenerate_triangles, 0u);
+  EXPECT_TRUE(r.closed());
+  EXPECT_FLOAT_EQ(r.bounds_max.z, 1.0f);
+  EXPECT_TRUE(requireBakeable(r).ok());
+}
+
+TEST_F(MeshTest, EveryFormatGivesTheSameCube) {
+  std::string off = "OFF\n8 6 0\n", ply, stl = "solid cube\n";
+  for (const auto& v : kCubeVertices)
+    off += std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]) + "\n";
+  ply = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 6\nproperty list uchar int vertex_indices\nend_header\n" +
+        off.substr(off.find('\n', 4) + 1);
+  for (const auto& q : kCubeQuads) {
+    off += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+           std::to_string(q[3]) + "\n";
+    ply += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+           std::to_string(q[3]) + "\n";
+    for (int t = 0; t < 2; ++t) { // STL is triangles only
+      const int tri[3] = {q[0], q[1 + t], q[2 + t]};
+      stl += " facet normal 0 0 0\n  outer loop\n";
+      for (int i : tri)
+        stl += "   vertex " + std::to_string(kCubeVertices[i][0]) + " " + std::to_string(kCubeVertices[i][1]) + " " +
+               std::to_string(kCubeVertices[i][2]) + "\n";
+      stl += "  endloop\n endfacet\n";
+    }
+  }
+  stl += "endsolid cube\n";
+  for (const std::string& path : {write("cube.off", off), write("cube.ply", ply), write("cube.stl", stl)}) {
+    SCOPED_TRACE(path);
+    const MeshReport r = checkMesh(load(path));
+    EXPECT_EQ(r.triangles, 12u);
+    EXPECT_TRUE(r.closed()) << r.boundary_edges << " boundary edges";
+    EXPECT_EQ(r.components, 1u);
+  }
+}
+
+TEST_F(MeshTest, OpenBoxReportsItsBoundaryAndStillBakes) {
+  const MeshReport r = checkMesh(load(cubeObj("open.obj", 1)));
+  EXPECT_EQ(r.triangles, 10u);
+  EXPECT_EQ(r.boundary_edges, 4u);
+  EXPECT_FALSE(r.closed());
+  EXPECT_TRUE(requireBakeable(r).ok());
+}
+
+// OpenMesh's own mesh kernel would refuse the third triangle on the shared edge; the soup keeps it.
+TEST_F(MeshTest, NonManifoldEdgeKeepsEveryTriangle) {
+  const std::string path =
+      write("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+  const TriangleSoup soup = load(path);
+  EXPECT_EQ(soup.triangles.size(), 3u);
+  const MeshReport r = checkMesh(soup);
+  EXPECT_EQ(r.non_manifold_edges, 1u);
+  EXPECT_EQ(r.boundary_edges, 6u);
+  EXPECT_TRUE(requireBakeable(r).ok());
+}
+
+TEST_F(MeshTest, SeparateShellsAreSeparateComponents) {
+  TriangleSoup a = load(cubeObj("a.obj"));
+  const TriangleSoup b = load(cubeObj("b.obj", -1, 3.0f));
+  const auto base = std::uint32_t(a.vertices.size());
+  a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (auto t : b.triangles)
+    a.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  const MeshReport r = checkMesh(a);
+  EXPECT_EQ(r.components, 2u);
+  EXPECT_FLOAT_EQ(r.bounds_max.x, 4.0f);
+}
+
+TEST_F(MeshTest, UnusableMeshesAreRefusedWithInvalidInput) {
+  TriangleSoup nan_soup;
+  nan_soup.vertices = {{0, 0, 0}, {1, 0, 0}, {NAN, 1, 0}};
+  nan_soup.triangles = {{0, 1, 2}};
+  const BakeStatus nan_status = requireBakeable(checkMesh(nan_soup));
+  EXPECT_EQ(nan_status.code, ExitCode::kInvalidInput);
+  EXPECT_NE(nan_status.message.find("NaN"), std::string::npos);
+
+  TriangleSoup flat;
+  flat.vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  flat.triangles = {{0, 1, 2}, {1, 2, 3}, {0, 0, 1}};
+  const MeshReport r = checkMesh(flat);
+  EXPECT_EQ(r.degenerate_triangles, 3u);
+  EXPECT_EQ(requireBakeable(r).code, ExitCode::kInvalidInput);
+
+  const TriangleSoup empty = load(write("empty.obj", ""));
+  const BakeStatus empty_status = requireBakeable(checkMesh(empty));
+  EXPECT_EQ(empty_status.code, ExitCode::kInvalidInput);
+  EXPECT_NE(empty_status.message.find("no faces"), std::string::npos);
+}
+
+TEST_F(MeshTest, FilesThatCannotBeReadSayWhy) {
+  TriangleSoup soup;
+  BakeStatus s = loadMesh((dir_ / "absent.obj").string(), &soup);
+  EXPECT_EQ(s.code, ExitCode::kIo);
+  EXPECT_NE(s.message.find("absent.obj"), std::string::npos);
+  s = loadMesh(write("mesh.fbx", "not supported"), &soup);
+  EXPECT_EQ(s.code, ExitCode::kUnsupported);
+  EXPECT_NE(s.message.find(".fbx"), std::string::npos);
+  fs::create_directories(dir_ / "folder.obj");
+  EXPECT_EQ(loadMesh((dir_ / "folder.obj").string(), &soup).code, ExitCode::kIo);
+  // OpenMesh alone spins on this header for over a minute, then throws.
+  s = loadMesh(write("broken.ply", "ply\nformat ascii 1.0\nelement vertex banana\nend_header\n"), &soup);
+  EXPECT_EQ(s.code, ExitCode::kInvalidInput) << s.message;
+  EXPECT_NE(s.message.find("element vertex banana"), std::string::npos);
+  s = loadMesh(write("huge.ply", "ply\nformat ascii 1.0\nelement vertex 99999999999\nend_header\n"), &soup);
+  EXPECT_EQ(s.code, ExitCode::kInvalidInput) << s.message;
+  s = loadMesh(write("headless.ply", "ply\nformat ascii 1.0\n"), &soup);
+  EXPECT_EQ(s.code, ExitCode::kInvalidInput) << s.message;
+  s = loadMesh(write("garbage.off", "this is not an OFF file at all\n"), &soup);
+  EXPECT_EQ(s.code, ExitCode::kIo) << s.message;
+}
+
+TEST_F(MeshTest, FaceIndicesOutOfRangeAreSkippedAndCounted) {
+  const TriangleSoup soup = load(write("bad_index.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 7\n"));
+  EXPECT_EQ(soup.polygons, 2u);
+  EXPECT_EQ(soup.faces_with_bad_index, 1u);
+  EXPECT_EQ(soup.triangles.size(), 1u);
+}
+
+} // namespace
+} // namespace baker
+} // namespace dng
