@@ -1,13 +1,22 @@
 // The baker's stages, declared in one place (DESIGN.md §4). Each stage lives in its own .cpp:
 //   load_mesh.cpp   OpenMesh parsing into a triangle soup
 //   check_mesh.cpp  mesh diagnostics and the "can this be baked" decision
-// Later stages (grid placement, distance, sign, normals, encode, write) join this header.
+//   closest_point.cpp   Embree closest-point queries
+//   winding_number.cpp  fast generalized winding number on an Embree-built BVH (the sign)
+//   grid_placement.cpp  where the grid goes, how fine, how thick the band
+//   distance_field.cpp  exact unsigned distance, sign, exact normals (TBB over slices)
+//   normal_modes.cpp    the paper's normal-blur and potential-gradient normals
+//   bake.cpp            the whole pipeline with timings, progress and cancel
+//   write_file.cpp      atomic output: temporary file, fsync, rename
 #pragma once
 
+#include "dng/format/dense_field.h"
 #include "dng/format/vec3.h"
+#include "dng/format/writer.h"
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -67,6 +76,118 @@ MeshReport checkMesh(const TriangleSoup& soup);
 /// kInvalidInput when the mesh cannot be baked: no triangles, non-finite coordinates, or every
 /// triangle degenerate. Open and non-manifold meshes are fine (the sign is robust to them).
 BakeStatus requireBakeable(const MeshReport& report);
+
+/// Exact closest points on a soup's triangles through Embree's BVH (rtcPointQuery). Degenerate and
+/// non-finite triangles are left out. Queries are const and thread-safe.
+class ClosestPointIndex {
+public:
+  ClosestPointIndex();
+  ~ClosestPointIndex();
+  ClosestPointIndex(const ClosestPointIndex&) = delete;
+  ClosestPointIndex& operator=(const ClosestPointIndex&) = delete;
+
+  /// Builds the BVH over `soup`, which must outlive the index. kInternal when Embree fails.
+  BakeStatus build(const TriangleSoup& soup);
+
+  struct Hit {
+    bool found = false;    ///< false when no triangle is within the radius
+    float distance = 0.0f; ///< unsigned
+    Vec3f point;           ///< closest point on the surface
+    std::uint32_t triangle = 0;
+  };
+  /// The closest surface point within `radius` of `p`; a small radius makes far queries cheap.
+  Hit query(Vec3f p, float radius) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The generalized winding number of a triangle soup (Jacobson et al. 2013), fast through a
+/// hierarchy of dipole clusters (Barill et al. 2018): exact solid angles near the query, one dipole
+/// per distant cluster. Robust on open meshes and soups: inside where w > 0.5. The hierarchy is
+/// Embree's BVH builder (rtcBuildBVH). Evaluation is const and thread-safe.
+class WindingNumber {
+public:
+  WindingNumber();
+  ~WindingNumber();
+  WindingNumber(const WindingNumber&) = delete;
+  WindingNumber& operator=(const WindingNumber&) = delete;
+
+  BakeStatus build(const TriangleSoup& soup);
+  double evaluate(Vec3f q) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// How normals are made (paper §3.1, plus an exact mode).
+enum class NormalMode { kNormalBlur, kPotential, kExact };
+/// How inside is told from outside.
+enum class SignMode { kAuto, kWinding, kPseudonormal };
+
+const char* normalModeName(NormalMode mode);
+
+/// Everything a bake depends on. Lengths in mesh units.
+struct BakeOptions {
+  NormalMode mode = NormalMode::kNormalBlur;
+  std::uint32_t resolution = 128; ///< voxels along the longest axis of the padded box (when voxel_size is 0)
+  float voxel_size = 0.0f;        ///< explicit voxel edge; 0 = derive from resolution
+  float band_voxels = 4.0f;       ///< field thickness in voxels (ignored when max_speed and dt are set)
+  float max_speed = 0.0f;         ///< fastest particle, mesh units per second
+  float dt = 0.0f;                ///< simulation step, seconds
+  std::uint32_t blur_radius = 3;  ///< blurred modes: kernel radius in voxels (paper: 2-4)
+  std::uint32_t blur_rounds = 3;  ///< blurred modes: rounds K
+  SignMode sign = SignMode::kAuto;
+  format::Encoding encoding = format::Encoding::kBricked;
+  format::BrickOptions brick;
+  std::uint32_t threads = 0; ///< 0 = all cores; the output never depends on it
+};
+
+/// Grid geometry for a mesh: padding >= band on every side, band from --band or from the fastest
+/// particle's travel per step plus View::guaranteedReach's half-diagonal guard. Warnings (e.g. a band
+/// wider than a quarter of the grid) are appended to *io_warnings.
+BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format::GridGeometry* out_grid,
+                     std::vector<std::string>* io_warnings);
+
+/// Progress of the long stages: stage name and fraction in [0, 1]. Returning false cancels the bake.
+using ProgressFn = bool (*)(void* user, const char* stage, double fraction);
+
+/// Per-voxel results of the distance stage, kept for the normal modes.
+struct DistanceResult {
+  format::DenseField field;          ///< signed distance; normals exact (or zero for far voxels)
+  std::vector<std::uint8_t> in_band; ///< 1 where the closest surface point is within the band
+  std::uint64_t band_voxels = 0;
+};
+
+/// Exact distance (Embree), sign (winding number; far regions filled from their band neighbours) and
+/// exact normals. Deterministic whatever the thread count.
+BakeStatus computeDistanceField(const TriangleSoup& soup, const format::GridGeometry& grid, ProgressFn progress,
+                                void* progress_user, DistanceResult* out);
+
+/// Replaces the normals of `io` by the paper's method 1 (normal-blur) or 2 (potential gradient).
+/// Surface voxels are those any triangle overlaps (exact triangle/box test).
+BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, DistanceResult* io);
+
+/// What a bake did, for the JSON report.
+struct BakeReport {
+  MeshReport mesh;
+  std::vector<std::string> warnings;
+  format::GridGeometry grid;
+  format::EncodeStats encode;
+  std::uint64_t output_bytes = 0;
+  std::string source_hash; ///< XXH64 of the input file, hex
+  std::vector<std::pair<std::string, double>> stage_seconds;
+};
+
+/// The whole bake: load, check, place, distance, normals, encode, write `output_path` atomically.
+BakeStatus bake(const std::string& input_path, const std::string& output_path, const BakeOptions& options,
+                ProgressFn progress, void* progress_user, BakeReport* out_report);
+
+/// Writes `bytes` to `path` through a temporary file in the same folder, fsync and rename: readers
+/// see the old file or the new one, never a partial one. The temporary is removed on failure.
+BakeStatus writeFileAtomically(const std::string& path, const std::vector<std::uint8_t>& bytes);
 
 } // namespace baker
 } // namespace dng

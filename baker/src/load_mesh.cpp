@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -143,6 +144,18 @@ BakeStatus checkPlyHeader(const std::string& path) {
   return BakeStatus::failure(ExitCode::kInvalidInput, "'" + path + "': PLY header has no end_header line");
 }
 
+// Binary STL declares its facet count; OpenMesh's reader silently drops facets it cannot use (seen:
+// a NaN coordinate). Returns the declared count, or -1 for ASCII or malformed files.
+long long declaredStlFacets(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char header[84];
+  if (!in.read(header, sizeof header)) return -1;
+  std::uint32_t count;
+  std::memcpy(&count, header + 80, 4);
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  return size == 84 + 50 * std::uint64_t(count) ? (long long)count : -1;
+}
+
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -181,6 +194,10 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
     const std::string why = soup.reader_messages.empty() ? "" : ": " + soup.reader_messages.front();
     return BakeStatus::failure(ExitCode::kIo, "'" + path + "': OpenMesh could not read it" + why);
   }
+  const long long declared = ext == ".stl" ? declaredStlFacets(path) : -1;
+  if (declared > (long long)soup.polygons)
+    soup.reader_messages.push_back("the STL declares " + std::to_string(declared) + " facets but OpenMesh kept " +
+                                   std::to_string(soup.polygons) + " (it drops non-finite or degenerate facets)");
   *out_soup = std::move(soup);
   return BakeStatus::success();
 }

@@ -1,0 +1,129 @@
+// The whole bake (DESIGN.md §4): load, check, place, distance and sign, normals, encode, write.
+#include "baker.h"
+
+#include "dng/format/xxhash64.h"
+
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <memory>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+const char* encodingName(format::Encoding e) { return e == format::Encoding::kDense ? "dense" : "bricked"; }
+
+// XXH64 of the input file, hex: recorded so a pipeline can tell which source a .dng came from.
+std::string hashFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)format::xxhash64(bytes.data(), bytes.size()));
+  return hex;
+}
+
+// The META section: the tool, the mode, every parameter and the source, as UTF-8 JSON. No clock and
+// no path: the same mesh and options must give the same bytes wherever and whenever they are baked.
+std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, const std::string& source_hash) {
+  nlohmann::ordered_json meta;
+  meta["tool"] = "dngbake";
+  meta["tool_version"] = DNG_TOOL_VERSION;
+  meta["mode"] = normalModeName(o.mode);
+  meta["parameters"] = {{"voxel_size", g.voxel_size},
+                        {"band_voxels", g.band / g.voxel_size},
+                        {"resolution", o.resolution},
+                        {"max_speed", o.max_speed},
+                        {"dt", o.dt},
+                        {"blur_radius", o.blur_radius},
+                        {"blur_rounds", o.blur_rounds},
+                        {"sign", "winding"},
+                        {"encoding", encodingName(o.encoding)},
+                        {"brick_size", o.brick.brick_size},
+                        {"tolerance_voxels", o.brick.tolerance_distance},
+                        {"tolerance_degrees", o.brick.tolerance_normal_deg}};
+  meta["source"] = {{"xxh64", source_hash}};
+  return meta.dump();
+}
+
+class StageTimer {
+public:
+  explicit StageTimer(BakeReport* report) : report_(report), start_(Clock::now()) {}
+  void done(const char* stage) {
+    const auto now = Clock::now();
+    report_->stage_seconds.emplace_back(stage, std::chrono::duration<double>(now - start_).count());
+    start_ = now;
+  }
+
+private:
+  BakeReport* report_;
+  Clock::time_point start_;
+};
+
+bool reportStage(ProgressFn progress, void* user, const char* stage) {
+  return progress == nullptr || progress(user, stage, 1.0);
+}
+
+BakeStatus cancelled() { return BakeStatus::failure(ExitCode::kInternal, "cancelled"); }
+
+} // namespace
+
+BakeStatus bake(const std::string& input, const std::string& output, const BakeOptions& options, ProgressFn progress,
+                void* user, BakeReport* report) {
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (options.threads > 0)
+    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
+  StageTimer timer(report);
+  TriangleSoup soup;
+  BakeStatus status = loadMesh(input, &soup);
+  if (!status.ok()) return status;
+  for (const std::string& m : soup.reader_messages)
+    report->warnings.push_back("reader: " + m);
+  if (soup.faces_with_bad_index > 0)
+    report->warnings.push_back(std::to_string(soup.faces_with_bad_index) +
+                               " faces referred to missing vertices and were skipped");
+  report->source_hash = hashFile(input);
+  timer.done("load");
+  if (!reportStage(progress, user, "load")) return cancelled();
+
+  report->mesh = checkMesh(soup);
+  if (!(status = requireBakeable(report->mesh)).ok()) {
+    if (soup.faces_with_bad_index > 0) // usually coordinates the reader could not parse, such as "nan"
+      status.message += " (" + std::to_string(soup.faces_with_bad_index) +
+                        " faces referred to vertices the file does not define; unparsable coordinates?)";
+    return status;
+  }
+  if (!(status = placeGrid(report->mesh, options, &report->grid, &report->warnings)).ok()) return status;
+  timer.done("check");
+
+  DistanceResult distance;
+  if (!(status = computeDistanceField(soup, report->grid, progress, user, &distance)).ok()) return status;
+  timer.done("distance");
+  if (!(status = applyNormalMode(soup, options, &distance)).ok()) return status;
+  timer.done("normals");
+  if (!reportStage(progress, user, "normals")) return cancelled();
+
+  const std::string meta = metadataJson(options, report->grid, report->source_hash);
+  format::EncodeResult encoded = options.encoding == format::Encoding::kDense
+                                     ? format::encodeDense(distance.field, meta)
+                                     : format::encodeBricked(distance.field, options.brick, meta);
+  if (!encoded.ok()) return BakeStatus::failure(ExitCode::kInternal, "encoding failed: " + encoded.error);
+  report->encode = encoded.stats;
+  timer.done("encode");
+  if (!reportStage(progress, user, "encode")) return cancelled();
+
+  if (!(status = writeFileAtomically(output, encoded.bytes)).ok()) return status;
+  report->output_bytes = encoded.bytes.size();
+  timer.done("write");
+  return BakeStatus::success();
+}
+
+} // namespace baker
+} // namespace dng

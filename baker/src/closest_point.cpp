@@ -1,0 +1,122 @@
+// Closest points on a triangle soup with Embree's BVH (rtcPointQuery): Embree walks the hierarchy
+// and calls us per candidate triangle; we compute the exact closest point and shrink the query
+// radius so the walk prunes everything farther away.
+#include "baker.h"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+// Closest point on triangle abc to p, by Voronoi regions of the vertices, edges and face
+// (C. Ericson, Real-Time Collision Detection, 2005, §5.1.5).
+Vec3f closestOnTriangle(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
+  const Vec3f ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  const Vec3f bp = p - b;
+  const float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return b;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + ab * (d1 / (d1 - d3));
+  const Vec3f cp = p - c;
+  const float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return c;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + ac * (d2 / (d2 - d6));
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const float denom = 1.0f / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct QueryState {
+  const TriangleSoup* soup;
+  const std::vector<std::uint32_t>* triangle_of_primitive;
+  ClosestPointIndex::Hit hit;
+};
+
+bool visitTriangle(RTCPointQueryFunctionArguments* args) {
+  auto* state = static_cast<QueryState*>(args->userPtr);
+  const std::uint32_t t = (*state->triangle_of_primitive)[args->primID];
+  const auto& tri = state->soup->triangles[t];
+  const Vec3f p{args->query->x, args->query->y, args->query->z};
+  const Vec3f q =
+      closestOnTriangle(p, state->soup->vertices[tri[0]], state->soup->vertices[tri[1]], state->soup->vertices[tri[2]]);
+  const float d = length(p - q);
+  if (!(d < args->query->radius)) return false;
+  args->query->radius = d; // prune the rest of the walk
+  state->hit = {true, d, q, t};
+  return true;
+}
+
+} // namespace
+
+struct ClosestPointIndex::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  const TriangleSoup* soup = nullptr;
+  std::vector<std::uint32_t> triangle_of_primitive; // Embree primitive -> soup triangle
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+ClosestPointIndex::ClosestPointIndex() : impl_(std::make_unique<Impl>()) {}
+ClosestPointIndex::~ClosestPointIndex() = default;
+
+BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
+  impl_ = std::make_unique<Impl>();
+  impl_->soup = &soup;
+  impl_->device = rtcNewDevice(nullptr);
+  if (impl_->device == nullptr) return BakeStatus::failure(ExitCode::kInternal, "Embree could not create a device");
+  impl_->scene = rtcNewScene(impl_->device);
+  RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  for (std::uint32_t t = 0; t < soup.triangles.size(); ++t) {
+    const auto& tri = soup.triangles[t];
+    const Vec3f a = soup.vertices[tri[0]], b = soup.vertices[tri[1]], c = soup.vertices[tri[2]];
+    if (length(cross(b - a, c - a)) > 0.0f && std::isfinite(dot(a + b + c, a + b + c)))
+      impl_->triangle_of_primitive.push_back(t);
+  }
+  // Embree reads vertices with 16-byte loads: its own buffers carry the padding it needs.
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), soup.vertices.size()));
+  auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
+                                                                      RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
+                                                                      impl_->triangle_of_primitive.size()));
+  if (vertices == nullptr || indices == nullptr) {
+    rtcReleaseGeometry(geometry);
+    return BakeStatus::failure(ExitCode::kInternal, "Embree could not allocate the mesh buffers");
+  }
+  std::memcpy(vertices, soup.vertices.data(), soup.vertices.size() * sizeof(Vec3f));
+  for (std::size_t i = 0; i < impl_->triangle_of_primitive.size(); ++i)
+    std::memcpy(indices + 3 * i, soup.triangles[impl_->triangle_of_primitive[i]].data(), 3 * sizeof(std::uint32_t));
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(impl_->scene, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(impl_->scene);
+  if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE)
+    return BakeStatus::failure(ExitCode::kInternal, "Embree failed to build the scene");
+  return BakeStatus::success();
+}
+
+ClosestPointIndex::Hit ClosestPointIndex::query(Vec3f p, float radius) const {
+  RTCPointQuery query;
+  query.x = p.x, query.y = p.y, query.z = p.z;
+  query.time = 0.0f;
+  query.radius = radius;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  QueryState state{impl_->soup, &impl_->triangle_of_primitive, {}};
+  rtcPointQuery(impl_->scene, &query, &context, visitTriangle, &state);
+  return state.hit;
+}
+
+} // namespace baker
+} // namespace dng

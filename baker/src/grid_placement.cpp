@@ -1,0 +1,88 @@
+// Grid placement (DESIGN.md §4.3): the padded bounding box, the voxel size and the band.
+#include "baker.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+constexpr float kHalfDiagonal = 0.8660254f; // View::guaranteedReach's guard, in voxels
+constexpr float kSpeedMargin = 0.5f;        // extra voxels on top of the travel per step
+constexpr std::uint32_t kMaxAxisVoxels = 2048;
+
+// Band in voxels for a voxel size: from --band, or from max speed * dt plus the guard.
+float bandVoxels(const BakeOptions& o, float voxel) {
+  if (o.max_speed > 0.0f && o.dt > 0.0f) return o.max_speed * o.dt / voxel + kHalfDiagonal + kSpeedMargin;
+  return o.band_voxels;
+}
+
+BakeStatus checkOptions(const BakeOptions& o) {
+  if (o.voxel_size < 0.0f || !std::isfinite(o.voxel_size))
+    return BakeStatus::failure(ExitCode::kUsage, "--voxel-size must be a positive number");
+  if (o.voxel_size == 0.0f && (o.resolution < 8 || o.resolution > kMaxAxisVoxels))
+    return BakeStatus::failure(ExitCode::kUsage, "--resolution must be between 8 and 2048");
+  if ((o.max_speed > 0.0f) != (o.dt > 0.0f) || !std::isfinite(o.max_speed) || !std::isfinite(o.dt) ||
+      o.max_speed < 0.0f || o.dt < 0.0f)
+    return BakeStatus::failure(ExitCode::kUsage, "--max-speed and --dt go together, both positive");
+  if (!(o.band_voxels >= 1.0f) || !std::isfinite(o.band_voxels))
+    return BakeStatus::failure(ExitCode::kUsage, "--band must be at least 1 voxel");
+  return BakeStatus::success();
+}
+
+} // namespace
+
+BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format::GridGeometry* out,
+                     std::vector<std::string>* io_warnings) {
+  BakeStatus status = checkOptions(options);
+  if (!status.ok()) return status;
+  const Vec3f extent = mesh.bounds_max - mesh.bounds_min;
+  const float longest = std::max({extent.x, extent.y, extent.z});
+  if (!(longest > 0.0f) || !std::isfinite(longest))
+    return BakeStatus::failure(ExitCode::kInvalidInput, "the mesh has no extent (all vertices coincide)");
+
+  // The padding depends on the band, which (from a speed) depends on the voxel size: iterate; three
+  // rounds settle it to within a voxel.
+  float voxel = options.voxel_size > 0.0f ? options.voxel_size : longest / float(options.resolution);
+  std::uint32_t pad = 0;
+  for (int round = 0; round < 3; ++round) {
+    pad = std::uint32_t(std::ceil(bandVoxels(options, voxel))) + 1;
+    if (options.voxel_size > 0.0f) break;
+    const float inner = float(options.resolution) - 2.0f * float(pad);
+    if (inner < 4.0f)
+      return BakeStatus::failure(ExitCode::kUsage, "the band (" + std::to_string(pad - 1) +
+                                                       " voxels each side) leaves no room in a grid of " +
+                                                       std::to_string(options.resolution) + ": raise --resolution");
+    voxel = longest / inner;
+  }
+  const float band = bandVoxels(options, voxel);
+  format::GridGeometry g;
+  g.voxel_size = voxel;
+  g.band = band * voxel;
+  const float axis_extent[3] = {extent.x, extent.y, extent.z};
+  const float axis_min[3] = {mesh.bounds_min.x, mesh.bounds_min.y, mesh.bounds_min.z};
+  float origin[3];
+  for (int a = 0; a < 3; ++a) {
+    const float inner = std::ceil(axis_extent[a] / voxel);
+    const double dims = double(inner) + 2.0 * pad;
+    if (dims > kMaxAxisVoxels)
+      return BakeStatus::failure(ExitCode::kUsage,
+                                 "the grid would need " + std::to_string(std::uint64_t(dims)) +
+                                     " voxels along one axis (at most 2048): use a larger voxel size");
+    g.dims[a] = std::uint32_t(dims);
+    // Centre the mesh in its padded box.
+    origin[a] = axis_min[a] - (float(g.dims[a]) * voxel - axis_extent[a]) * 0.5f;
+  }
+  g.origin = {origin[0], origin[1], origin[2]};
+  if (band * 4.0f > float(std::min({g.dims[0], g.dims[1], g.dims[2]})))
+    io_warnings->push_back("the band (" + std::to_string(band) +
+                           " voxels) is more than a quarter of the grid: particles this fast need a coarser grid or "
+                           "swept steps");
+  *out = g;
+  return BakeStatus::success();
+}
+
+} // namespace baker
+} // namespace dng

@@ -1,0 +1,187 @@
+// dngbake: bake a mesh into a .dng distance/normal grid. Thin over the baker library: parse options,
+// run bake(), report. Exit codes (docs/BAKING.md): 0 ok, 1 usage, 2 I/O, 3 invalid input, 4 internal,
+// 5 unsupported, 130 interrupted.
+#include "baker.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+
+#include <unistd.h>
+
+namespace {
+
+using namespace dng::baker;
+
+constexpr int kExitInterrupted = 130;
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void onSignal(int) { g_interrupted = true; }
+
+struct CommandLine {
+  std::string input;
+  std::string output;
+  std::string export_vdb;
+  BakeOptions bake;
+  bool json = false;
+  bool quiet = false;
+};
+
+// Progress: one redrawn line on stderr, only for a person watching a terminal.
+struct Progress {
+  bool draw = false;
+  static bool update(void* self, const char* stage, double fraction) {
+    auto* p = static_cast<Progress*>(self);
+    if (p->draw) {
+      std::fprintf(stderr, "\r\033[Kdngbake: %-9s %3d%%", stage, int(fraction * 100.0 + 0.5));
+      std::fflush(stderr);
+    }
+    return !g_interrupted.load();
+  }
+  void finish() const {
+    if (draw) std::fprintf(stderr, "\r\033[K");
+  }
+};
+
+bool wantProgress(const CommandLine& cl) {
+  const char* term = std::getenv("TERM");
+  return !cl.json && !cl.quiet && ::isatty(STDERR_FILENO) && term != nullptr && std::strcmp(term, "dumb") != 0;
+}
+
+void addOptions(CLI::App& app, CommandLine& cl) {
+  app.add_option("input", cl.input, "mesh file (.obj .off .ply .stl .om)")->required();
+  app.add_option("-o,--output", cl.output, "the .dng file to write")->required();
+  const std::map<std::string, NormalMode> modes{
+      {"normal-blur", NormalMode::kNormalBlur}, {"potential", NormalMode::kPotential}, {"exact", NormalMode::kExact}};
+  app.add_option("--mode", cl.bake.mode, "normals: normal-blur (paper method 1), potential (method 2), exact")
+      ->transform(CLI::CheckedTransformer(modes, CLI::ignore_case));
+  auto* resolution = app.add_option("--resolution", cl.bake.resolution, "voxels along the longest axis (default 128)");
+  app.add_option("--voxel-size", cl.bake.voxel_size, "voxel edge in mesh units")->excludes(resolution);
+  auto* band = app.add_option("--band", cl.bake.band_voxels, "field thickness in voxels (default 4)");
+  auto* speed =
+      app.add_option("--max-speed", cl.bake.max_speed, "fastest particle, mesh units/s (with --dt)")->excludes(band);
+  auto* dt = app.add_option("--dt", cl.bake.dt, "simulation step in seconds (with --max-speed)")->excludes(band);
+  speed->needs(dt);
+  dt->needs(speed);
+  app.add_option("--blur-radius", cl.bake.blur_radius, "blur kernel radius in voxels, 2-4 (default 3)");
+  app.add_option("--blur-rounds", cl.bake.blur_rounds, "blur rounds (default 3)");
+  const std::map<std::string, SignMode> signs{
+      {"auto", SignMode::kAuto}, {"winding", SignMode::kWinding}, {"pseudonormal", SignMode::kPseudonormal}};
+  app.add_option("--sign", cl.bake.sign, "inside test: auto, winding, pseudonormal")
+      ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
+  const std::map<std::string, dng::format::Encoding> encodings{{"bricked", dng::format::Encoding::kBricked},
+                                                               {"dense", dng::format::Encoding::kDense}};
+  app.add_option("--encoding", cl.bake.encoding, "bricked (default) or dense")
+      ->transform(CLI::CheckedTransformer(encodings, CLI::ignore_case));
+  app.add_option("--brick-size", cl.bake.brick.brick_size, "4, 8 (default) or 16")->check(CLI::IsMember({4u, 8u, 16u}));
+  app.add_option("--tolerance", cl.bake.brick.tolerance_distance, "plane/far tile tolerance in voxels (default 0.02)");
+  app.add_option("--export-vdb", cl.export_vdb, "also write distance and normal grids as OpenVDB");
+  app.add_option("--threads", cl.bake.threads, "worker threads (default: all); the output never depends on it");
+  app.add_flag("--json", cl.json, "print a versioned JSON report on stdout");
+  app.add_flag("-q,--quiet", cl.quiet, "no progress, no summary");
+  app.set_version_flag("--version", DNG_TOOL_VERSION);
+}
+
+nlohmann::ordered_json vec3(dng::Vec3f v) { return {v.x, v.y, v.z}; }
+
+nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, const BakeStatus& status) {
+  nlohmann::ordered_json j;
+  j["format"] = "dngbake-report";
+  j["version"] = 1;
+  j["input"] = cl.input;
+  j["output"] = cl.output;
+  j["ok"] = status.ok();
+  if (!status.ok()) j["error"] = {{"exit_code", int(status.code)}, {"message", status.message}};
+  const MeshReport& m = r.mesh;
+  j["mesh"] = {{"vertices", m.vertices},
+               {"triangles", m.triangles},
+               {"components", m.components},
+               {"boundary_edges", m.boundary_edges},
+               {"non_manifold_edges", m.non_manifold_edges},
+               {"degenerate_triangles", m.degenerate_triangles},
+               {"non_finite_vertices", m.non_finite_vertices},
+               {"closed", m.closed()},
+               {"bounds_min", vec3(m.bounds_min)},
+               {"bounds_max", vec3(m.bounds_max)},
+               {"source_xxh64", r.source_hash}};
+  const dng::format::GridGeometry& g = r.grid;
+  j["grid"] = {{"origin", vec3(g.origin)},
+               {"voxel_size", g.voxel_size},
+               {"dims", {g.dims[0], g.dims[1], g.dims[2]}},
+               {"band", g.band},
+               {"band_voxels", g.voxel_size > 0 ? g.band / g.voxel_size : 0.0f}};
+  const dng::format::EncodeStats& e = r.encode;
+  j["encoder"] = {{"far_outside_tiles", e.far_outside_tiles},
+                  {"far_inside_tiles", e.far_inside_tiles},
+                  {"plane_tiles", e.plane_tiles},
+                  {"brick_tiles", e.brick_tiles},
+                  {"band_voxels", e.band_voxels},
+                  {"max_distance_error_voxels", e.max_distance_error_voxels},
+                  {"max_normal_error_degrees", e.max_normal_error_deg},
+                  {"payload_bytes", e.payload_bytes}};
+  j["output_bytes"] = r.output_bytes;
+  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
+  for (const auto& [stage, seconds] : r.stage_seconds)
+    timings[stage] = seconds;
+  j["seconds"] = timings;
+  j["warnings"] = r.warnings;
+  return j;
+}
+
+void printSummary(const CommandLine& cl, const BakeReport& r) {
+  double total = 0.0;
+  for (const auto& stage : r.stage_seconds)
+    total += stage.second;
+  std::fprintf(stderr, "dngbake: %s -> %s: %llu triangles, %u x %u x %u voxels of %g, %llu bytes, %.2f s\n",
+               cl.input.c_str(), cl.output.c_str(), (unsigned long long)r.mesh.triangles, r.grid.dims[0],
+               r.grid.dims[1], r.grid.dims[2], double(r.grid.voxel_size), (unsigned long long)r.output_bytes, total);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dngbake: bake a mesh into a distance/normal grid (.dng)", "dngbake"};
+  CommandLine cl;
+  addOptions(app, cl);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int cli_code = app.exit(e); // prints help, version or the parse error
+    return cli_code == 0 ? 0 : int(ExitCode::kUsage);
+  }
+  if (!cl.export_vdb.empty()) {
+    std::fprintf(stderr, "dngbake: error: --export-vdb is not available in this build yet\n");
+    return int(ExitCode::kUnsupported);
+  }
+  if (cl.bake.sign == SignMode::kPseudonormal) {
+    std::fprintf(stderr, "dngbake: error: --sign pseudonormal is not available in this build yet; use winding\n");
+    return int(ExitCode::kUnsupported);
+  }
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  Progress progress{wantProgress(cl)};
+  BakeReport report;
+  const BakeStatus status = bake(cl.input, cl.output, cl.bake, &Progress::update, &progress, &report);
+  progress.finish();
+  if (cl.json) std::printf("%s\n", reportJson(cl, report, status).dump(2).c_str());
+  if (!cl.quiet && !cl.json) {
+    for (const std::string& w : report.warnings)
+      std::fprintf(stderr, "dngbake: warning: %s\n", w.c_str());
+  }
+  if (g_interrupted.load()) {
+    std::fprintf(stderr, "dngbake: interrupted; %s was not written\n", cl.output.c_str());
+    return kExitInterrupted;
+  }
+  if (!status.ok()) {
+    std::fprintf(stderr, "dngbake: error: %s\n", status.message.c_str());
+    return int(status.code);
+  }
+  if (!cl.quiet && !cl.json) printSummary(cl, report);
+  return 0;
+}

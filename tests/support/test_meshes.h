@@ -1,0 +1,39 @@
+// Procedural meshes for the baker's tests, and an independent brute-force reference: closest point
+// by plane projection and segment distances (not the baker's Voronoi-region code) and the exact
+// generalized winding number summed over every triangle (no hierarchy).
+#pragma once
+
+#include "dng/format/vec3.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dng {
+namespace testing {
+
+struct Mesh {
+  std::vector<Vec3f> vertices;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+Mesh boxMesh(Vec3f centre, Vec3f half);
+Mesh sphereMesh(Vec3f centre, float radius, int slices, int stacks);
+Mesh cylinderMesh(Vec3f centre, float radius, float half_height, int segments);
+Mesh torusMesh(Vec3f centre, float major, float minor, int major_segments, int minor_segments);
+/// A square sheet of zero thickness in the plane z = centre.z.
+Mesh sheetMesh(Vec3f centre, float half);
+/// The same triangles with every vertex duplicated per triangle: no shared connectivity at all.
+Mesh toSoup(const Mesh& mesh);
+/// Drops the triangles whose centroid has the largest value along `axis` (opens a box's face).
+Mesh withoutFace(const Mesh& box, int axis);
+
+void writeObj(const Mesh& mesh, const std::string& path);
+
+/// Brute force over all triangles.
+float bruteDistance(const Mesh& mesh, Vec3f p);
+double bruteWinding(const Mesh& mesh, Vec3f p);
+
+} // namespace testing
+} // namespace dng
