@@ -91,9 +91,20 @@ cmd_format_check() {
   log "clang-format: clean"
 }
 
+# The sample meshes come from Debian's libcgal-demo (DESIGN.md §8) and are never committed.
+fetch_data() {
+  install_packages libcgal-demo
+  mkdir -p "$ROOT/data"
+  if [ ! -f "$ROOT/data/data/meshes/bunny00.off" ]; then
+    tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$ROOT/data" \
+      data/meshes/bunny00.off data/meshes/fandisk.off data/meshes/blade.off
+  fi
+}
+
 cmd_bench() {
   deps
   install_packages python3
+  fetch_data
   configure_and_build "$ROOT/build/bench" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BENCH=ON -DDNG_BUILD_TESTS=OFF
   bash "$ROOT/bench/run.sh" "$ROOT/build/bench"
 }

@@ -35,7 +35,7 @@ protected:
   File bakeMesh(const Mesh& mesh, const std::string& name, BakeOptions options, BakeReport* out_report = nullptr) {
     testing::writeObj(mesh, path(name + ".obj"));
     BakeReport report;
-    const BakeStatus status = bake(path(name + ".obj"), path(name + ".dng"), options, nullptr, nullptr, &report);
+    const BakeStatus status = bake(path(name + ".obj"), {path(name + ".dng"), {}}, options, nullptr, nullptr, &report);
     EXPECT_TRUE(status.ok()) << status.message;
     File file;
     Diagnostic diag;
@@ -81,12 +81,16 @@ std::vector<Vec3f> bandCentres(const View& view, std::size_t count, std::uint32_
   return out;
 }
 
-TEST_F(BakeTest, ExactModeDistancesAndSignsMatchBruteForce) {
+class BakeSign : public BakeTest, public ::testing::WithParamInterface<SignMode> {};
+
+TEST_P(BakeSign, ExactModeDistancesAndSignsMatchBruteForce) {
   for (const Shape& shape : closedShapes()) {
     SCOPED_TRACE(shape.name);
+    BakeOptions options = exactOptions();
+    options.sign = GetParam();
     ASSERT_NEAR(testing::bruteWinding(shape.mesh, shape.inside), 1.0, 1e-3) << "test mesh faces inwards";
     BakeReport report;
-    const File file = bakeMesh(shape.mesh, shape.name, exactOptions(), &report);
+    const File file = bakeMesh(shape.mesh, shape.name, options, &report);
     const View& view = file.view();
     const float h = view.grid().voxel_size;
     EXPECT_TRUE(report.mesh.closed());
@@ -100,6 +104,20 @@ TEST_F(BakeTest, ExactModeDistancesAndSignsMatchBruteForce) {
       ASSERT_EQ(s.distance < 0.0f, inside);
     }
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(WindingAndPseudonormal, BakeSign,
+                         ::testing::Values(SignMode::kWinding, SignMode::kPseudonormal, SignMode::kAuto));
+
+TEST_F(BakeTest, PseudonormalSignRefusesOpenMeshes) {
+  testing::writeObj(testing::withoutFace(testing::boxMesh({0, 0, 0}, {1, 1, 1}), 2), path("open.obj"));
+  BakeOptions options = exactOptions();
+  options.sign = SignMode::kPseudonormal;
+  BakeReport report;
+  const BakeStatus status = bake(path("open.obj"), {path("open.dng"), {}}, options, nullptr, nullptr, &report);
+  EXPECT_EQ(status.code, ExitCode::kInvalidInput);
+  EXPECT_NE(status.message.find("closed manifold"), std::string::npos) << status.message;
+  EXPECT_FALSE(fs::exists(path("open.dng")));
 }
 
 TEST_F(BakeTest, FarRegionsTakeTheRightSide) {
@@ -200,7 +218,7 @@ TEST_F(BakeTest, SameBytesWhateverTheThreadCount) {
     options.threads = threads;
     BakeReport report;
     const std::string out = path("torus_" + std::to_string(threads) + ".dng");
-    ASSERT_TRUE(bake(path("torus.obj"), out, options, nullptr, nullptr, &report).ok());
+    ASSERT_TRUE(bake(path("torus.obj"), {out, {}}, options, nullptr, nullptr, &report).ok());
     std::ifstream in(out, std::ios::binary);
     outputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }

@@ -67,6 +67,8 @@ TEST_F(MeshTest, ClosedCubeFromObjIsTriangulatedAndClosed) {
   EXPECT_EQ(r.components, 1u);
   EXPECT_EQ(r.degenerate_triangles, 0u);
   EXPECT_TRUE(r.closed());
+  EXPECT_TRUE(r.wellFormedSolid());
+  EXPECT_NEAR(r.signed_volume, 1.0, 1e-6);
   EXPECT_FLOAT_EQ(r.bounds_max.z, 1.0f);
   EXPECT_TRUE(requireBakeable(r).ok());
 }
@@ -100,6 +102,23 @@ TEST_F(MeshTest, EveryFormatGivesTheSameCube) {
     EXPECT_TRUE(r.closed()) << r.boundary_edges << " boundary edges";
     EXPECT_EQ(r.components, 1u);
   }
+}
+
+TEST_F(MeshTest, FlippedFacesAndInsideOutMeshesAreNotWellFormedSolids) {
+  const TriangleSoup cube = load(cubeObj("cube.obj"));
+  TriangleSoup flipped_one = cube;
+  std::swap(flipped_one.triangles[0][1], flipped_one.triangles[0][2]);
+  const MeshReport one = checkMesh(flipped_one);
+  EXPECT_TRUE(one.closed());
+  EXPECT_EQ(one.misoriented_edges, 3u);
+  EXPECT_FALSE(one.wellFormedSolid());
+  TriangleSoup inside_out = cube;
+  for (auto& t : inside_out.triangles)
+    std::swap(t[1], t[2]);
+  const MeshReport out = checkMesh(inside_out);
+  EXPECT_EQ(out.misoriented_edges, 0u);
+  EXPECT_NEAR(out.signed_volume, -1.0, 1e-6);
+  EXPECT_FALSE(out.wellFormedSolid());
 }
 
 TEST_F(MeshTest, OpenBoxReportsItsBoundaryAndStillBakes) {

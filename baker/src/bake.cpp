@@ -32,7 +32,8 @@ std::string hashFile(const std::string& path) {
 
 // The META section: the tool, the mode, every parameter and the source, as UTF-8 JSON. No clock and
 // no path: the same mesh and options must give the same bytes wherever and whenever they are baked.
-std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, const std::string& source_hash) {
+std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, const std::string& source_hash,
+                         const std::string& sign) {
   nlohmann::ordered_json meta;
   meta["tool"] = "dngbake";
   meta["tool_version"] = DNG_TOOL_VERSION;
@@ -44,7 +45,7 @@ std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, co
                         {"dt", o.dt},
                         {"blur_radius", o.blur_radius},
                         {"blur_rounds", o.blur_rounds},
-                        {"sign", "winding"},
+                        {"sign", sign},
                         {"encoding", encodingName(o.encoding)},
                         {"brick_size", o.brick.brick_size},
                         {"tolerance_voxels", o.brick.tolerance_distance},
@@ -75,7 +76,7 @@ BakeStatus cancelled() { return BakeStatus::failure(ExitCode::kInternal, "cancel
 
 } // namespace
 
-BakeStatus bake(const std::string& input, const std::string& output, const BakeOptions& options, ProgressFn progress,
+BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
                 void* user, BakeReport* report) {
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
@@ -103,14 +104,23 @@ BakeStatus bake(const std::string& input, const std::string& output, const BakeO
   if (!(status = placeGrid(report->mesh, options, &report->grid, &report->warnings)).ok()) return status;
   timer.done("check");
 
+  // auto: pseudonormals where they are exact (and faster: O(1) after the closest point), the winding
+  // number wherever the mesh is open, non-manifold or inconsistently oriented.
+  PseudonormalSign pseudonormals;
+  const bool use_pseudonormals =
+      options.sign == SignMode::kPseudonormal || (options.sign == SignMode::kAuto && report->mesh.wellFormedSolid());
+  report->sign = use_pseudonormals ? "pseudonormal" : "winding";
+  if (use_pseudonormals && !(status = pseudonormals.build(soup, report->mesh)).ok()) return status;
   DistanceResult distance;
-  if (!(status = computeDistanceField(soup, report->grid, progress, user, &distance)).ok()) return status;
+  status =
+      computeDistanceField(soup, report->grid, use_pseudonormals ? &pseudonormals : nullptr, progress, user, &distance);
+  if (!status.ok()) return status;
   timer.done("distance");
   if (!(status = applyNormalMode(soup, options, &distance)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return cancelled();
 
-  const std::string meta = metadataJson(options, report->grid, report->source_hash);
+  const std::string meta = metadataJson(options, report->grid, report->source_hash, report->sign);
   format::EncodeResult encoded = options.encoding == format::Encoding::kDense
                                      ? format::encodeDense(distance.field, meta)
                                      : format::encodeBricked(distance.field, options.brick, meta);
@@ -119,7 +129,11 @@ BakeStatus bake(const std::string& input, const std::string& output, const BakeO
   timer.done("encode");
   if (!reportStage(progress, user, "encode")) return cancelled();
 
-  if (!(status = writeFileAtomically(output, encoded.bytes)).ok()) return status;
+  if (!outputs.vdb.empty()) {
+    if (!(status = exportVdb(distance, outputs.vdb)).ok()) return status;
+    timer.done("export_vdb");
+  }
+  if (!(status = writeFileAtomically(outputs.dng, encoded.bytes)).ok()) return status;
   report->output_bytes = encoded.bytes.size();
   timer.done("write");
   return BakeStatus::success();

@@ -3,11 +3,13 @@
 //   check_mesh.cpp  mesh diagnostics and the "can this be baked" decision
 //   closest_point.cpp   Embree closest-point queries
 //   winding_number.cpp  fast generalized winding number on an Embree-built BVH (the sign)
+//   pseudonormal.cpp    sign by angle-weighted pseudonormals (closed manifold meshes only)
 //   grid_placement.cpp  where the grid goes, how fine, how thick the band
 //   distance_field.cpp  exact unsigned distance, sign, exact normals (TBB over slices)
 //   normal_modes.cpp    the paper's normal-blur and potential-gradient normals
 //   bake.cpp            the whole pipeline with timings, progress and cancel
 //   write_file.cpp      atomic output: temporary file, fsync, rename
+//   export_vdb.cpp      the band as OpenVDB grids (the only OpenVDB translation unit: it is slow to compile)
 #pragma once
 
 #include "dng/format/dense_field.h"
@@ -66,9 +68,13 @@ struct MeshReport {
   std::uint64_t boundary_edges = 0;       ///< used by one triangle: the mesh is open
   std::uint64_t non_manifold_edges = 0;   ///< used by three or more triangles
   std::uint64_t components = 0;           ///< connected by shared vertices
+  std::uint64_t misoriented_edges = 0;    ///< shared by two triangles that run it the same way
+  double signed_volume = 0.0;             ///< > 0 when a closed mesh's faces point outwards
   Vec3f bounds_min;
   Vec3f bounds_max;
   bool closed() const { return boundary_edges == 0 && non_manifold_edges == 0; }
+  /// Closed, manifold, consistently oriented and facing outwards: pseudonormals are exact here.
+  bool wellFormedSolid() const { return closed() && misoriented_edges == 0 && signed_volume > 0.0; }
 };
 
 MeshReport checkMesh(const TriangleSoup& soup);
@@ -122,9 +128,29 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
+/// Sign by angle-weighted pseudonormals (Baerentzen & Aanaes 2005): O(1) after the closest point,
+/// exact for closed manifold meshes and refused for any other. Queries are const and thread-safe.
+class PseudonormalSign {
+public:
+  PseudonormalSign();
+  ~PseudonormalSign();
+  PseudonormalSign(const PseudonormalSign&) = delete;
+  PseudonormalSign& operator=(const PseudonormalSign&) = delete;
+
+  /// kInvalidInput unless the mesh is a well-formed solid (closed, manifold, consistently oriented).
+  BakeStatus build(const TriangleSoup& soup, const MeshReport& report);
+  /// Whether `p` is inside, given its closest surface point on `triangle`.
+  bool inside(Vec3f p, Vec3f closest, std::uint32_t triangle) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// How normals are made (paper §3.1, plus an exact mode).
 enum class NormalMode { kNormalBlur, kPotential, kExact };
-/// How inside is told from outside.
+/// How inside is told from outside. kAuto: pseudonormals for well-formed solids (exact and O(1) after
+/// the closest point), the winding number for everything else (robust on open meshes and soups).
 enum class SignMode { kAuto, kWinding, kPseudonormal };
 
 const char* normalModeName(NormalMode mode);
@@ -161,10 +187,12 @@ struct DistanceResult {
   std::uint64_t band_voxels = 0;
 };
 
-/// Exact distance (Embree), sign (winding number; far regions filled from their band neighbours) and
-/// exact normals. Deterministic whatever the thread count.
-BakeStatus computeDistanceField(const TriangleSoup& soup, const format::GridGeometry& grid, ProgressFn progress,
-                                void* progress_user, DistanceResult* out);
+/// Exact distance (Embree), sign (winding number, or pseudonormals when `pseudonormals` is given;
+/// far regions filled from their band neighbours) and exact normals. Deterministic whatever the
+/// thread count.
+BakeStatus computeDistanceField(const TriangleSoup& soup, const format::GridGeometry& grid,
+                                const PseudonormalSign* pseudonormals, ProgressFn progress, void* progress_user,
+                                DistanceResult* out);
 
 /// Replaces the normals of `io` by the paper's method 1 (normal-blur) or 2 (potential gradient).
 /// Surface voxels are those any triangle overlaps (exact triangle/box test).
@@ -178,12 +206,24 @@ struct BakeReport {
   format::EncodeStats encode;
   std::uint64_t output_bytes = 0;
   std::string source_hash; ///< XXH64 of the input file, hex
+  std::string sign;        ///< the sign method used: "winding" or "pseudonormal"
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
-/// The whole bake: load, check, place, distance, normals, encode, write `output_path` atomically.
-BakeStatus bake(const std::string& input_path, const std::string& output_path, const BakeOptions& options,
+/// Where the optional extra outputs go; empty means none.
+struct BakeOutputs {
+  std::string dng;
+  std::string vdb;
+};
+
+/// The whole bake: load, check, place, distance, normals, encode, write outputs.dng (and outputs.vdb
+/// when set) atomically.
+BakeStatus bake(const std::string& input_path, const BakeOutputs& outputs, const BakeOptions& options,
                 ProgressFn progress, void* progress_user, BakeReport* out_report);
+
+/// Writes the band voxels of `field` as two OpenVDB grids, "distance" (a level set: FloatGrid,
+/// background = band) and "normal" (Vec3SGrid), in the same world placement, to `path` atomically.
+BakeStatus exportVdb(const DistanceResult& field, const std::string& path);
 
 /// Writes `bytes` to `path` through a temporary file in the same folder, fsync and rename: readers
 /// see the old file or the new one, never a partial one. The temporary is removed on failure.

@@ -22,25 +22,42 @@ bool degenerate(const TriangleSoup& soup, const std::array<std::uint32_t, 3>& t)
   return !(length(cross(b - a, c - a)) > 1e-7f * longest);
 }
 
-// Counts edges used once (boundary) and three or more times (non-manifold).
+// Counts edges used once (boundary), three or more times (non-manifold), and twice in the same
+// direction (the two faces disagree about which side is out).
 void countEdges(const TriangleSoup& soup, MeshReport* io) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  struct Edge {
+    std::uint32_t lo, hi;
+    bool forward; // runs lo -> hi in its triangle
+    bool operator<(const Edge& o) const { return lo != o.lo ? lo < o.lo : hi < o.hi; }
+  };
+  std::vector<Edge> edges;
   edges.reserve(soup.triangles.size() * 3);
   for (const auto& t : soup.triangles) {
     for (int e = 0; e < 3; ++e) {
       const std::uint32_t a = t[e], b = t[(e + 1) % 3];
-      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+      if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
     }
   }
   std::sort(edges.begin(), edges.end());
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i])
+    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi)
       ++j;
     io->boundary_edges += j - i == 1 ? 1 : 0;
     io->non_manifold_edges += j - i >= 3 ? 1 : 0;
+    io->misoriented_edges += j - i == 2 && edges[i].forward == edges[i + 1].forward ? 1 : 0;
     i = j;
   }
+}
+
+// Divergence theorem: the tetrahedra each triangle forms with the origin, summed.
+double signedVolume(const TriangleSoup& soup) {
+  double volume = 0.0;
+  for (const auto& t : soup.triangles) {
+    const Vec3f a = soup.vertices[t[0]], b = soup.vertices[t[1]], c = soup.vertices[t[2]];
+    volume += double(dot(a, cross(b, c))) / 6.0;
+  }
+  return volume;
 }
 
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t v) {
@@ -87,6 +104,7 @@ MeshReport checkMesh(const TriangleSoup& soup) {
     r.degenerate_triangles += degenerate(soup, t) ? 1 : 0;
   countEdges(soup, &r);
   r.components = countComponents(soup);
+  if (r.non_finite_vertices == 0) r.signed_volume = signedVolume(soup);
   return r;
 }
 

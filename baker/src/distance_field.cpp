@@ -29,7 +29,7 @@ Vec3f faceNormal(const TriangleSoup& soup, std::uint32_t t) {
 
 // Unsigned distance, exact normal direction (away from the surface) and sign, for one z slice.
 void computeSlice(const TriangleSoup& soup, const ClosestPointIndex& index, const WindingNumber& winding,
-                  std::uint32_t k, DistanceResult* out) {
+                  const PseudonormalSign* pseudonormals, std::uint32_t k, DistanceResult* out) {
   const format::GridGeometry& g = out->field.grid;
   for (std::uint32_t j = 0; j < g.dims[1]; ++j) {
     for (std::uint32_t i = 0; i < g.dims[0]; ++i) {
@@ -37,7 +37,7 @@ void computeSlice(const TriangleSoup& soup, const ClosestPointIndex& index, cons
       const Vec3f c = g.voxelCentre(i, j, k);
       const ClosestPointIndex::Hit hit = index.query(c, g.band);
       if (!hit.found) continue; // far: sign filled in later, no normal
-      const bool inside = winding.evaluate(c) > 0.5;
+      const bool inside = pseudonormals ? pseudonormals->inside(c, hit.point, hit.triangle) : winding.evaluate(c) > 0.5;
       const Vec3f away = c - hit.point;
       // On the surface itself the direction is undefined: use the face normal there.
       const Vec3f n = length(away) > 1e-6f * g.voxel_size ? normalizeOrZero(away) : faceNormal(soup, hit.triangle);
@@ -89,14 +89,14 @@ void fillFarSigns(DistanceResult* io) {
 
 } // namespace
 
-BakeStatus computeDistanceField(const TriangleSoup& soup, const format::GridGeometry& grid, ProgressFn progress,
-                                void* progress_user, DistanceResult* out) {
+BakeStatus computeDistanceField(const TriangleSoup& soup, const format::GridGeometry& grid,
+                                const PseudonormalSign* pseudonormals, ProgressFn progress, void* progress_user,
+                                DistanceResult* out) {
   ClosestPointIndex index;
   BakeStatus status = index.build(soup);
   if (!status.ok()) return status;
   WindingNumber winding;
-  status = winding.build(soup);
-  if (!status.ok()) return status;
+  if (pseudonormals == nullptr && !(status = winding.build(soup)).ok()) return status;
 
   out->field.reset(grid);
   out->in_band.assign(grid.voxelCount(), 0);
@@ -106,7 +106,7 @@ BakeStatus computeDistanceField(const TriangleSoup& soup, const format::GridGeom
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, grid.dims[2], 1),
                     [&](const tbb::blocked_range<std::uint32_t>& r) {
                       for (std::uint32_t k = r.begin(); k != r.end() && !cancelled.load(); ++k) {
-                        computeSlice(soup, index, winding, k, out);
+                        computeSlice(soup, index, winding, pseudonormals, k, out);
                         const double fraction = double(++slices_done) / grid.dims[2];
                         if (progress != nullptr && reporting.try_lock()) {
                           if (!progress(progress_user, "distance", fraction)) cancelled = true;

@@ -106,7 +106,10 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                {"non_manifold_edges", m.non_manifold_edges},
                {"degenerate_triangles", m.degenerate_triangles},
                {"non_finite_vertices", m.non_finite_vertices},
+               {"misoriented_edges", m.misoriented_edges},
                {"closed", m.closed()},
+               {"signed_volume", m.signed_volume},
+               {"sign_method", r.sign},
                {"bounds_min", vec3(m.bounds_min)},
                {"bounds_max", vec3(m.bounds_max)},
                {"source_xxh64", r.source_hash}};
@@ -155,19 +158,11 @@ int main(int argc, char** argv) {
     const int cli_code = app.exit(e); // prints help, version or the parse error
     return cli_code == 0 ? 0 : int(ExitCode::kUsage);
   }
-  if (!cl.export_vdb.empty()) {
-    std::fprintf(stderr, "dngbake: error: --export-vdb is not available in this build yet\n");
-    return int(ExitCode::kUnsupported);
-  }
-  if (cl.bake.sign == SignMode::kPseudonormal) {
-    std::fprintf(stderr, "dngbake: error: --sign pseudonormal is not available in this build yet; use winding\n");
-    return int(ExitCode::kUnsupported);
-  }
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   Progress progress{wantProgress(cl)};
   BakeReport report;
-  const BakeStatus status = bake(cl.input, cl.output, cl.bake, &Progress::update, &progress, &report);
+  const BakeStatus status = bake(cl.input, {cl.output, cl.export_vdb}, cl.bake, &Progress::update, &progress, &report);
   progress.finish();
   if (cl.json) std::printf("%s\n", reportJson(cl, report, status).dump(2).c_str());
   if (!cl.quiet && !cl.json) {

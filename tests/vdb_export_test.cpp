@@ -1,0 +1,59 @@
+// --export-vdb: the grids OpenVDB reads back hold the same field, at the same world positions, as
+// the .dng written by the same bake.
+#include "baker.h"
+#include "dng/file.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
+
+#include <filesystem>
+
+#include <unistd.h>
+
+namespace dng {
+namespace baker {
+namespace {
+
+TEST(VdbExport, GridsMatchTheDngAtTheSameWorldPositions) {
+  const std::string dir = (std::filesystem::temp_directory_path() / ("dng_vdb_" + std::to_string(::getpid()))).string();
+  std::filesystem::create_directories(dir);
+  testing::writeObj(testing::sphereMesh({0.2f, 0, 0}, 1.0f, 24, 12), dir + "/sphere.obj");
+  BakeOptions options;
+  options.mode = NormalMode::kExact;
+  options.resolution = 40;
+  BakeReport report;
+  ASSERT_TRUE(
+      bake(dir + "/sphere.obj", {dir + "/sphere.dng", dir + "/sphere.vdb"}, options, nullptr, nullptr, &report).ok());
+
+  openvdb::initialize();
+  openvdb::io::File file(dir + "/sphere.vdb");
+  file.open();
+  auto distance = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("distance"));
+  auto normal = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("normal"));
+  file.close();
+  ASSERT_TRUE(distance && normal);
+  EXPECT_EQ(distance->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_NEAR(distance->voxelSize()[0], report.grid.voxel_size, 1e-7);
+  EXPECT_EQ(distance->activeVoxelCount(), report.encode.band_voxels);
+
+  File dng;
+  ASSERT_EQ(File::open((dir + "/sphere.dng").c_str(), &dng), Status::kOk);
+  const float h = report.grid.voxel_size;
+  int compared = 0;
+  for (auto it = distance->cbeginValueOn(); it; ++it) {
+    const openvdb::Vec3d world = distance->indexToWorld(it.getCoord());
+    const Sample s = dng.view().sample({float(world.x()), float(world.y()), float(world.z())});
+    ASSERT_EQ(s.status, SampleStatus::kInBand);
+    ASSERT_NEAR(*it, s.distance, 0.01f * h);
+    const openvdb::Vec3s n = normal->tree().getValue(it.getCoord());
+    ASSERT_LT(angleDegrees({n.x(), n.y(), n.z()}, s.normal), 0.5);
+    ++compared;
+  }
+  EXPECT_GT(compared, 1000);
+  std::filesystem::remove_all(dir);
+}
+
+} // namespace
+} // namespace baker
+} // namespace dng
