@@ -1,0 +1,150 @@
+// dngdump's reports: what is in a file, for people (summary) and programs (--json), and --stats.
+#include "dump.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+namespace dng {
+namespace dump {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+const char* encodingName(const GridInfo& g) { return g.encoding == format::Encoding::kDense ? "dense" : "bricked"; }
+
+// Voxels whose centre is within the band, counted through the runtime's own queries.
+std::uint64_t bandVoxels(const View& view) {
+  const GridInfo& g = view.grid();
+  std::uint64_t count = 0;
+  for (std::uint32_t k = 0; k < g.dims[2]; ++k)
+    for (std::uint32_t j = 0; j < g.dims[1]; ++j)
+      for (std::uint32_t i = 0; i < g.dims[0]; ++i) {
+        const Vec3f c = g.origin + Vec3f{float(i) + 0.5f, float(j) + 0.5f, float(k) + 0.5f} * g.voxel_size;
+        count += view.sample(c).status == SampleStatus::kInBand ? 1 : 0;
+      }
+  return count;
+}
+
+Json metadataJson(const View& view) {
+  const std::string_view text = view.metadata();
+  if (text.empty()) return nullptr;
+  Json parsed = Json::parse(text.begin(), text.end(), nullptr, false);
+  return parsed.is_discarded() ? Json(std::string(text)) : parsed; // keep unparsable text as a string
+}
+
+Json reportJson(const std::string& path, const View& view) {
+  const GridInfo& g = view.grid();
+  const double voxels = double(g.dims[0]) * g.dims[1] * g.dims[2];
+  const std::uint64_t band = bandVoxels(view);
+  Json j;
+  j["format"] = "dngdump-report";
+  j["version"] = 1;
+  j["file"] = path;
+  j["format_version"] = std::to_string(view.versionMajor()) + "." + std::to_string(view.versionMinor());
+  j["encoding"] = encodingName(g);
+  j["brick_size"] = g.brick_size;
+  j["dims"] = {g.dims[0], g.dims[1], g.dims[2]};
+  j["voxel_size"] = g.voxel_size;
+  j["bounds_min"] = {g.origin.x, g.origin.y, g.origin.z};
+  j["bounds_max"] = {g.origin.x + float(g.dims[0]) * g.voxel_size, g.origin.y + float(g.dims[1]) * g.voxel_size,
+                     g.origin.z + float(g.dims[2]) * g.voxel_size};
+  j["band"] = g.band;
+  j["band_voxels"] = g.band / g.voxel_size;
+  j["guaranteed_reach"] = view.guaranteedReach();
+  const TileCounts& t = view.tileCounts();
+  j["tiles"] = {{"far_outside", t.far_outside}, {"far_inside", t.far_inside}, {"plane", t.plane}, {"brick", t.brick}};
+  j["voxels_in_band"] = band;
+  j["file_bytes"] = view.sizeBytes();
+  j["bytes_per_voxel"] = double(view.sizeBytes()) / voxels;
+  j["bytes_per_band_voxel"] = band > 0 ? double(view.sizeBytes()) / double(band) : 0.0;
+  j["metadata"] = metadataJson(view);
+  return j;
+}
+
+} // namespace
+
+void printJson(const std::string& path, const View& view) {
+  std::printf("%s\n", reportJson(path, view).dump(2).c_str());
+}
+
+void printSummary(const std::string& path, const View& view) {
+  const Json j = reportJson(path, view);
+  const GridInfo& g = view.grid();
+  std::printf("%s: .dng version %s, %s", path.c_str(), j["format_version"].get<std::string>().c_str(), encodingName(g));
+  if (g.encoding == format::Encoding::kBricked) std::printf(" (bricks of %u)", g.brick_size);
+  std::printf("\n  grid       %u x %u x %u voxels of %g\n", g.dims[0], g.dims[1], g.dims[2], double(g.voxel_size));
+  std::printf("  bounds     (%g, %g, %g) .. (%g, %g, %g)\n", double(g.origin.x), double(g.origin.y), double(g.origin.z),
+              j["bounds_max"][0].get<double>(), j["bounds_max"][1].get<double>(), j["bounds_max"][2].get<double>());
+  std::printf("  band       %g (%.3g voxels); guaranteed reach %g\n", double(g.band), double(g.band / g.voxel_size),
+              double(view.guaranteedReach()));
+  if (g.encoding == format::Encoding::kBricked) {
+    const TileCounts& t = view.tileCounts();
+    std::printf("  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",
+                (unsigned long long)t.far_outside, (unsigned long long)t.far_inside, (unsigned long long)t.plane,
+                (unsigned long long)t.brick);
+  }
+  std::printf("  size       %zu bytes: %.3g per voxel, %.3g per band voxel (%llu voxels in band)\n", view.sizeBytes(),
+              j["bytes_per_voxel"].get<double>(), j["bytes_per_band_voxel"].get<double>(),
+              (unsigned long long)j["voxels_in_band"].get<std::uint64_t>());
+  const Json& meta = j["metadata"];
+  if (meta.is_null()) {
+    std::printf("  metadata   none\n");
+  } else {
+    std::printf("  metadata   %s\n", meta.dump().c_str());
+  }
+}
+
+void printStats(const View& view, bool json) {
+  const GridInfo& g = view.grid();
+  constexpr int kBins = 10;
+  std::uint64_t distance_bins[kBins] = {}, angle_bins[kBins] = {}, band = 0, total = 0;
+  const float angle_edges[kBins] = {0.5f, 1, 2, 5, 10, 20, 45, 90, 135, 180};
+  for (std::uint32_t k = 0; k < g.dims[2]; ++k)
+    for (std::uint32_t j = 0; j < g.dims[1]; ++j)
+      for (std::uint32_t i = 0; i < g.dims[0]; ++i) {
+        const auto centre = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+          return g.origin + Vec3f{float(a) + 0.5f, float(b) + 0.5f, float(c) + 0.5f} * g.voxel_size;
+        };
+        const Sample s = view.sample(centre(i, j, k));
+        ++total;
+        if (s.status != SampleStatus::kInBand) continue;
+        ++band;
+        const int bin = std::min(kBins - 1, int((s.distance + g.band) / (2.0f * g.band) * kBins));
+        ++distance_bins[std::max(0, bin)];
+        if (i + 1 < g.dims[0]) { // deviation from the +x neighbour, when it is in band too
+          const Sample n = view.sample(centre(i + 1, j, k));
+          if (n.status == SampleStatus::kInBand) {
+            const double angle = angleDegrees(s.normal, n.normal);
+            int a = 0;
+            while (a + 1 < kBins && angle > angle_edges[a])
+              ++a;
+            ++angle_bins[a];
+          }
+        }
+      }
+  Json j;
+  j["format"] = "dngdump-stats";
+  j["version"] = 1;
+  j["band_coverage"] = total ? double(band) / double(total) : 0.0;
+  j["distance_histogram"] = {{"from", -g.band}, {"to", g.band}, {"counts", distance_bins}};
+  j["neighbour_normal_deviation_degrees"] = {{"upper_edges", angle_edges}, {"counts", angle_bins}};
+  if (json) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("band coverage: %.4g%% of %llu voxels\n", 100.0 * j["band_coverage"].get<double>(),
+              (unsigned long long)total);
+  std::printf("distance (voxel centres in band), %d bins from %g to %g:\n", kBins, double(-g.band), double(g.band));
+  for (int b = 0; b < kBins; ++b)
+    std::printf("  [%8.4g, %8.4g) %llu\n", -double(g.band) + 2.0 * g.band * b / kBins,
+                -double(g.band) + 2.0 * g.band * (b + 1) / kBins, (unsigned long long)distance_bins[b]);
+  std::printf("normal deviation between +x neighbours in band, degrees:\n");
+  for (int b = 0; b < kBins; ++b)
+    std::printf("  <= %5g %llu\n", double(angle_edges[b]), (unsigned long long)angle_bins[b]);
+}
+
+} // namespace dump
+} // namespace dng
