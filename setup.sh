@@ -2,7 +2,7 @@
 # setup.sh: one entry point for installing, building, testing and running dngrid.
 #
 #   bash setup.sh test           install what is missing, build (Release), run the whole test suite
-#   bash setup.sh demo           the README demo (see below for its state)
+#   bash setup.sh demo           bake the Stanford bunny, check it, run particles, write pictures to out/
 #   bash setup.sh deps           only install the Debian packages the project needs
 #   bash setup.sh asan           build and test with AddressSanitizer + UndefinedBehaviorSanitizer
 #   bash setup.sh runtime-only   build and test format + runtime with the baker and its libraries off
@@ -18,7 +18,7 @@ JOBS="${DNG_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 WERROR="${DNG_WERROR:-OFF}"
 
 # Debian 12 packages. Build tools first, then the runtime's test libraries, then the baker's.
-PACKAGES_BUILD=(cmake ninja-build g++ pkg-config clang-format)
+PACKAGES_BUILD=(cmake ninja-build g++ pkg-config clang-format bc)
 PACKAGES_TEST=(libgtest-dev libgmock-dev libbenchmark-dev libxxhash-dev)
 PACKAGES_BAKER=(libopenmesh-dev libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev libcli11-dev
                 libtbb-dev libpng-dev nlohmann-json3-dev)
@@ -109,10 +109,44 @@ cmd_bench() {
   bash "$ROOT/bench/run.sh" "$ROOT/build/bench"
 }
 
+# The main job end to end: bake the Stanford bunny, check it, run particles around it, draw.
 cmd_demo() {
-  log "the demo is not available yet: it needs dngbake (issue #4) and the particle samples (issue #6)."
-  log "what works today: 'bash setup.sh test' builds the format and runtime and runs their tests."
-  exit 1
+  deps
+  fetch_data
+  local build="$ROOT/build/demo" out="$ROOT/out"
+  configure_and_build "$build" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=ON
+  mkdir -p "$out/demo" "$out/figures"
+  local mesh="$ROOT/data/data/meshes/bunny00.off" dng="$out/demo/bunny.dng"
+  local t0 t1
+  t0=$(date +%s.%N)
+  "$build/baker/dngbake" "$mesh" -o "$dng" --resolution 128 --quiet
+  t1=$(date +%s.%N)
+  "$build/baker/dngdump" "$dng" --check
+  "$build/baker/dngdump" "$dng" --slice z=0 --png "$out/demo/bunny_field_slice.png"
+  local stats
+  stats=$("$build/samples/dng_demo" "$dng" "$out/demo" y) # bunny00.off is y-up
+  echo "$stats" > "$out/demo/stats.json"
+  log "running the paper's figures (Fig. 3, 6, 7, 8) and the thin sheet"
+  "$build/samples/dng_fig3_falling" "$out/figures" > "$out/figures/fig3.json"
+  "$build/samples/dng_fig6_sphere_flow" "$out/figures" > "$out/figures/fig6.json"
+  "$build/samples/dng_fig7_shaft_flow" "$out/figures" > "$out/figures/fig7.json"
+  "$build/samples/dng_fig8_explosion" "$out/figures" > "$out/figures/fig8.json"
+  "$build/baker/dngbake" "$ROOT/data/data/meshes/blade.off" -o "$out/figures/blade.dng" --mode potential --quiet
+  "$build/samples/dng_thin_sheet" "$out/figures/blade.dng" "$out/figures" > "$out/figures/thin_sheet.json"
+
+  local inside rate bytes
+  inside=$(grep -o '"inside":[0-9]*' <<<"$stats" | cut -d: -f2)
+  rate=$(grep -o '"particle_steps_per_second":[0-9.e+]*' <<<"$stats" | cut -d: -f2)
+  bytes=$(stat -c %s "$dng")
+  {
+    echo "dngrid demo: the Stanford bunny (bunny00.off, 75,408 triangles)"
+    printf '  bake time            %.2f s (resolution 128, normal-blur)\n' "$(echo "$t1 - $t0" | bc -l)"
+    echo "  file size            $bytes bytes ($dng)"
+    echo "  particles stepped    $rate particle-steps per second"
+    echo "  particles inside     $inside (must be 0)"
+    echo "  pictures             $out/demo/*.png, $out/figures/*.png"
+  } | tee "$out/summary.txt"
+  [ "$inside" = "0" ] || { log "particles ended inside the mesh"; exit 1; }
 }
 
 case "${1:-}" in

@@ -23,8 +23,8 @@ inline const SphereScene& sphereScene() {
   static const SphereScene* scene = [] {
     auto* s = new SphereScene;
     const float half = kGridSize / 2.0f;
-    s->field = testing::sampleField(testing::cubeGrid({-half, -half, -half}, 1.0f, kGridSize, kBandVoxels),
-                                    testing::sphereField({0.3f, 0.2f, 0.1f}, kRadius));
+    s->field = analytic::sampleField(analytic::cubeGrid({-half, -half, -half}, 1.0f, kGridSize, kBandVoxels),
+                                     analytic::sphereField({0.3f, 0.2f, 0.1f}, kRadius));
     s->dense_bytes = format::encodeDense(s->field, "").bytes;
     s->bricked_bytes = format::encodeBricked(s->field, {}, "").bytes;
     View::open(s->dense_bytes.data(), s->dense_bytes.size(), &s->dense);

@@ -35,7 +35,7 @@ float maxOctError(int bits) {
     octEncode(n, bits, &u, &v);
     EXPECT_LT(u, 1u << bits);
     EXPECT_LT(v, 1u << bits);
-    worst = std::max(worst, testing::angleDegrees(n, octDecode(u, v, bits)));
+    worst = std::max(worst, analytic::angleDegrees(n, octDecode(u, v, bits)));
   }
   return worst;
 }
@@ -56,9 +56,9 @@ TEST(Octahedral, EveryElevenBitPairDecodesToAFiniteUnitVector) {
 TEST(Octahedral, ZeroAndNonFiniteVectorsEncodePlusZ) {
   std::uint32_t u = 0, v = 0;
   octEncode({0, 0, 0}, kWordOctBits, &u, &v);
-  EXPECT_LT(testing::angleDegrees(octDecode(u, v, kWordOctBits), {0, 0, 1}), 0.1f);
+  EXPECT_LT(analytic::angleDegrees(octDecode(u, v, kWordOctBits), {0, 0, 1}), 0.1f);
   octEncode({NAN, 0, 0}, kWordOctBits, &u, &v);
-  EXPECT_LT(testing::angleDegrees(octDecode(u, v, kWordOctBits), {0, 0, 1}), 0.1f);
+  EXPECT_LT(analytic::angleDegrees(octDecode(u, v, kWordOctBits), {0, 0, 1}), 0.1f);
 }
 
 TEST(DistanceCodes, RangeEndsAndCodeEndsAreExact) {
@@ -97,7 +97,7 @@ TEST(TopEntries, PackAndUnpackRoundTrip) {
   const std::uint64_t plane = packPlaneEntry(u, v, -1.25f);
   EXPECT_EQ(entryKind(plane), TileKind::kPlane);
   EXPECT_EQ(entryPlaneDistance(plane), -1.25f);
-  EXPECT_LT(testing::angleDegrees(entryPlaneNormal(plane), {0.3f, -0.5f, -0.8f}), 0.01f);
+  EXPECT_LT(analytic::angleDegrees(entryPlaneNormal(plane), {0.3f, -0.5f, -0.8f}), 0.01f);
 
   EXPECT_EQ(entryKind(packFarEntry(TileKind::kFarInside)), TileKind::kFarInside);
   EXPECT_EQ(packFarEntry(TileKind::kFarOutside), 0u);

@@ -13,7 +13,7 @@
 namespace dng {
 namespace {
 
-using testing::AnalyticField;
+using analytic::AnalyticField;
 
 constexpr float kDt = 1.0f / 60.0f;
 
@@ -51,8 +51,8 @@ struct Field {
   View view;
   explicit Field(const AnalyticField& shape) {
     const float band = kReachVoxels + 0.8661f;
-    file =
-        format::encodeBricked(testing::sampleField(testing::cubeGrid({-20, -20, -20}, 1.0f, 40, band), shape), {}, "");
+    file = format::encodeBricked(analytic::sampleField(analytic::cubeGrid({-20, -20, -20}, 1.0f, 40, band), shape), {},
+                                 "");
     EXPECT_TRUE(file.ok()) << file.error;
     EXPECT_EQ(View::open(file.bytes.data(), file.bytes.size(), &view), Status::kOk);
   }
@@ -104,8 +104,8 @@ Material impactMaterial(bool swept) {
 class Leak : public ::testing::TestWithParam<int> {
 protected:
   AnalyticField shape() const {
-    return GetParam() == 0 ? testing::sphereField({0.4f, -0.3f, 0.2f}, 12.0f)
-                           : testing::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+    return GetParam() == 0 ? analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f)
+                           : analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
   }
 };
 
@@ -140,7 +140,7 @@ INSTANTIATE_TEST_SUITE_P(SphereAndBox, Leak, ::testing::Values(0, 1));
 
 // A rotated, translated, scaled body gives the same paths as the scene transformed by hand.
 TEST(Transform, BodyTransformEqualsTransformingTheSceneByHand) {
-  const AnalyticField sphere = testing::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
+  const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
   Field field(sphere);
   Material local = impactMaterial(false);
   local.drag = 1.5f;
@@ -185,7 +185,7 @@ TEST(Transform, BodyTransformEqualsTransformingTheSceneByHand) {
 // A moving body bats a resting particle away with the relative-velocity bounce:
 // v_rel = -u, reflected to +beta u, so v = (1 + beta) u along the face normal.
 TEST(MovingBody, BatsParticlesWithRelativeVelocity) {
-  const AnalyticField box = testing::boxField({0, 0, 0}, {6.0f, 6.0f, 6.0f});
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {6.0f, 6.0f, 6.0f});
   Field field(box);
   Material m = impactMaterial(false);
   m.restitution = 0.6f;
@@ -210,7 +210,7 @@ TEST(MovingBody, BatsParticlesWithRelativeVelocity) {
 
 // Drag and surface flow through the whole step, on a flat floor.
 TEST(Step, DragStopsSlidingAndSpringHoldsParticlesUp) {
-  const AnalyticField floor = testing::planeField({0, 0, 1}, 0.0f); // solid below z = 0
+  const AnalyticField floor = analytic::planeField({0, 0, 1}, 0.0f); // solid below z = 0
   Field field(floor);
   Material sticky = impactMaterial(false);
   sticky.restitution = 0.0f;
@@ -244,7 +244,7 @@ TEST(Step, DragStopsSlidingAndSpringHoldsParticlesUp) {
 }
 
 TEST(Step, ArrayOfStructuresStridesGiveTheSameResult) {
-  const AnalyticField sphere = testing::sphereField({0, 0, 0}, 12.0f);
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
   Field field(sphere);
   const Body body = makeBody(field.view, impactMaterial(false));
   Particles soa = thrownAt(sphere, 2.0f / kDt, 500, 9);
@@ -274,7 +274,7 @@ TEST(Step, ArrayOfStructuresStridesGiveTheSameResult) {
 }
 
 TEST(Step, ManyBodiesReportTheNearestThatActed) {
-  const AnalyticField box = testing::boxField({0, 0, 0}, {6.0f, 6.0f, 6.0f});
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {6.0f, 6.0f, 6.0f});
   Field field(box);
   std::vector<Body> bodies;
   for (int i = 0; i < 4; ++i) {
@@ -293,7 +293,7 @@ TEST(Step, ManyBodiesReportTheNearestThatActed) {
 }
 
 TEST(Step, BadCallsTouchNoParticle) {
-  const AnalyticField box = testing::boxField({0, 0, 0}, {6.0f, 6.0f, 6.0f});
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {6.0f, 6.0f, 6.0f});
   Field field(box);
   const Body body = makeBody(field.view, impactMaterial(false));
   Particles p;

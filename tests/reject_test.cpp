@@ -302,7 +302,7 @@ TEST(Verify, SectionHashesAreCheckedOnlyWhenAsked) {
 // nothing may crash, and a view that opens must answer every query with finite or "no field".
 TEST(Fuzz, RandomDamageNeverBreaksQueries) {
   const Bytes pristine = testing::smallBrickedBox();
-  const auto points = testing::randomPoints({-13, -13, -13}, {13, 13, 13}, 64, 5);
+  const auto points = analytic::randomPoints({-13, -13, -13}, {13, 13, 13}, 64, 5);
   std::mt19937 rng(1234);
   int opened = 0;
   for (int round = 0; round < 3000; ++round) {

@@ -12,10 +12,10 @@
 namespace dng {
 namespace {
 
+using analytic::AnalyticField;
 using format::BrickOptions;
 using format::DenseField;
 using format::EncodeResult;
-using testing::AnalyticField;
 
 constexpr float kRadiansPerDegree = 0.017453292f;
 
@@ -44,11 +44,11 @@ struct Scene {
 };
 
 // A 40^3 grid of unit voxels around the origin with a 3-voxel band.
-format::GridGeometry sceneGrid() { return testing::cubeGrid({-20, -20, -20}, 1.0f, 40, 3.0f); }
+format::GridGeometry sceneGrid() { return analytic::cubeGrid({-20, -20, -20}, 1.0f, 40, 3.0f); }
 
 std::vector<Vec3f> pointsNearSurface(const AnalyticField& field, float max_distance, std::size_t count) {
   std::vector<Vec3f> out;
-  const auto candidates = testing::randomPoints({-19.5f, -19.5f, -19.5f}, {19.5f, 19.5f, 19.5f}, count * 40, 11);
+  const auto candidates = analytic::randomPoints({-19.5f, -19.5f, -19.5f}, {19.5f, 19.5f, 19.5f}, count * 40, 11);
   for (const Vec3f& p : candidates) {
     if (std::fabs(field(p).distance) < max_distance) out.push_back(p);
     if (out.size() == count) break;
@@ -62,15 +62,15 @@ class RoundTrip : public ::testing::TestWithParam<std::uint32_t> {};
 // dense to within what the encoder says it let through (plus the normal error over half a voxel).
 TEST_P(RoundTrip, BrickedMatchesDenseWithinReportedErrorAndDenseMatchesExact) {
   const Scene scenes[] = {
-      {"tilted plane", testing::planeField({0.3f, -0.2f, 1.0f}, 1.5f), 0.001f},
-      {"sphere", testing::sphereField({0.4f, -0.3f, 0.2f}, 12.0f), 0.05f},
-      {"box", testing::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f}), -1.0f}, // edges: not smooth
+      {"tilted plane", analytic::planeField({0.3f, -0.2f, 1.0f}, 1.5f), 0.001f},
+      {"sphere", analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f), 0.05f},
+      {"box", analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f}), -1.0f}, // edges: not smooth
   };
   BrickOptions options;
   options.brick_size = GetParam();
   for (const Scene& scene : scenes) {
     SCOPED_TRACE(scene.name);
-    const DenseField field = testing::sampleField(sceneGrid(), scene.field);
+    const DenseField field = analytic::sampleField(sceneGrid(), scene.field);
     const Opened dense = openOrDie(format::encodeDense(field, ""));
     const Opened bricked = openOrDie(format::encodeBricked(field, options, ""));
     const format::EncodeStats& stats = bricked.file.stats;
@@ -86,7 +86,7 @@ TEST_P(RoundTrip, BrickedMatchesDenseWithinReportedErrorAndDenseMatchesExact) {
       ASSERT_EQ(d.status, SampleStatus::kInBand) << p.x << " " << p.y << " " << p.z;
       ASSERT_EQ(b.status, SampleStatus::kInBand);
       ASSERT_NEAR(b.distance, d.distance, bound);
-      ASSERT_LE(testing::angleDegrees(b.normal, d.normal), stats.max_normal_error_deg + 1e-3f);
+      ASSERT_LE(analytic::angleDegrees(b.normal, d.normal), stats.max_normal_error_deg + 1e-3f);
       ASSERT_NEAR(length(b.normal), 1.0f, 1e-5f);
       if (scene.curvature_bound_voxels >= 0.0f) {
         ASSERT_NEAR(d.distance, scene.field(p).distance, scene.curvature_bound_voxels);
@@ -98,10 +98,10 @@ TEST_P(RoundTrip, BrickedMatchesDenseWithinReportedErrorAndDenseMatchesExact) {
 }
 
 TEST_P(RoundTrip, TrilinearBrickedMatchesTrilinearDenseAndTheSphere) {
-  const AnalyticField sphere = testing::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
+  const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
   BrickOptions options;
   options.brick_size = GetParam();
-  const DenseField field = testing::sampleField(sceneGrid(), sphere);
+  const DenseField field = analytic::sampleField(sceneGrid(), sphere);
   const Opened dense = openOrDie(format::encodeDense(field, ""));
   const Opened bricked = openOrDie(format::encodeBricked(field, options, ""));
   const float bound = bricked.file.stats.max_distance_error_voxels + 1e-4f;
@@ -110,16 +110,16 @@ TEST_P(RoundTrip, TrilinearBrickedMatchesTrilinearDenseAndTheSphere) {
     const Sample b = bricked.view.sample(p, Interpolation::kTrilinear);
     ASSERT_NEAR(b.distance, d.distance, bound);
     ASSERT_NEAR(d.distance, sphere(p).distance, 0.05f);
-    ASSERT_LE(testing::angleDegrees(d.normal, sphere(p).normal), 3.0f);
-    ASSERT_LE(testing::angleDegrees(b.normal, d.normal), 0.2f);
+    ASSERT_LE(analytic::angleDegrees(d.normal, sphere(p).normal), 3.0f);
+    ASSERT_LE(analytic::angleDegrees(b.normal, d.normal), 0.2f);
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(BrickSizes, RoundTrip, ::testing::Values(4u, 8u, 16u));
 
 TEST(PlaneTiles, PlanarFieldNeedsNoBricksAndQueriesStayExact) {
-  const AnalyticField plane = testing::planeField({0.3f, -0.2f, 1.0f}, 1.5f);
-  const Opened opened = openOrDie(format::encodeBricked(testing::sampleField(sceneGrid(), plane), {}, ""));
+  const AnalyticField plane = analytic::planeField({0.3f, -0.2f, 1.0f}, 1.5f);
+  const Opened opened = openOrDie(format::encodeBricked(analytic::sampleField(sceneGrid(), plane), {}, ""));
   const format::EncodeStats& stats = opened.file.stats;
   EXPECT_EQ(stats.brick_tiles, 0u);
   EXPECT_GT(stats.plane_tiles, 0u);
@@ -131,13 +131,13 @@ TEST(PlaneTiles, PlanarFieldNeedsNoBricksAndQueriesStayExact) {
     const Sample s = opened.view.sample(p);
     ASSERT_EQ(s.status, SampleStatus::kInBand);
     ASSERT_NEAR(s.distance, plane(p).distance, 0.02f + 1e-3f);
-    ASSERT_LT(testing::angleDegrees(s.normal, plane(p).normal), 0.5f);
+    ASSERT_LT(analytic::angleDegrees(s.normal, plane(p).normal), 0.5f);
   }
 }
 
 TEST(PlaneTiles, BoxFacesBecomePlanesAndEdgesBecomeBricks) {
-  const AnalyticField box = testing::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
-  const Opened opened = openOrDie(format::encodeBricked(testing::sampleField(sceneGrid(), box), {}, ""));
+  const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+  const Opened opened = openOrDie(format::encodeBricked(analytic::sampleField(sceneGrid(), box), {}, ""));
   const View& view = opened.view;
   EXPECT_GT(view.tileCounts().plane, 0u);
   EXPECT_GT(view.tileCounts().brick, 0u);
@@ -145,12 +145,12 @@ TEST(PlaneTiles, BoxFacesBecomePlanesAndEdgesBecomeBricks) {
   // A point in the middle of the +z face, between the two rows of voxel centres.
   const Sample s = view.sample({0.3f, 0.2f, 10.9f + 0.25f});
   EXPECT_NEAR(s.distance, 0.25f, 0.03f); // the face is at z = 11 - 0.1
-  EXPECT_LT(testing::angleDegrees(s.normal, {0, 0, 1}), 0.5f);
+  EXPECT_LT(analytic::angleDegrees(s.normal, {0, 0, 1}), 0.5f);
 }
 
 TEST(FarTiles, FarSidesReportBandAndNoNormal) {
-  const AnalyticField sphere = testing::sphereField({0, 0, 0}, 12.0f);
-  const Opened opened = openOrDie(format::encodeBricked(testing::sampleField(sceneGrid(), sphere), {}, ""));
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
+  const Opened opened = openOrDie(format::encodeBricked(analytic::sampleField(sceneGrid(), sphere), {}, ""));
   const View& view = opened.view;
   const Sample outside = view.sample({19.0f, 19.0f, 19.0f});
   EXPECT_EQ(outside.status, SampleStatus::kFarOutside);
@@ -162,8 +162,8 @@ TEST(FarTiles, FarSidesReportBandAndNoNormal) {
 }
 
 TEST(NoField, OutsideTheGridOrNotFiniteOrEmptyView) {
-  const AnalyticField sphere = testing::sphereField({0, 0, 0}, 12.0f);
-  const DenseField field = testing::sampleField(sceneGrid(), sphere);
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
+  const DenseField field = analytic::sampleField(sceneGrid(), sphere);
   const Opened dense = openOrDie(format::encodeDense(field, ""));
   const Opened bricked = openOrDie(format::encodeBricked(field, {}, ""));
   const float inf = INFINITY;
@@ -184,15 +184,15 @@ TEST(NoField, OutsideTheGridOrNotFiniteOrEmptyView) {
 }
 
 TEST(Batch, StridedBatchEqualsSingleQueries) {
-  const AnalyticField sphere = testing::sphereField({0, 0, 0}, 12.0f);
-  const Opened opened = openOrDie(format::encodeBricked(testing::sampleField(sceneGrid(), sphere), {}, ""));
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
+  const Opened opened = openOrDie(format::encodeBricked(analytic::sampleField(sceneGrid(), sphere), {}, ""));
   const View& view = opened.view;
   struct Particle {
     float position[3];
     float payload; // makes the stride 16 bytes
   };
   std::vector<Particle> particles;
-  for (const Vec3f& p : testing::randomPoints({-21, -21, -21}, {21, 21, 21}, 5000, 3))
+  for (const Vec3f& p : analytic::randomPoints({-21, -21, -21}, {21, 21, 21}, 5000, 3))
     particles.push_back({{p.x, p.y, p.z}, 1.0f});
   for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
     std::vector<Sample> out(particles.size());
@@ -209,8 +209,8 @@ TEST(Batch, StridedBatchEqualsSingleQueries) {
 // Queries are const and touch no shared mutable state: concurrent samplers see what one thread sees.
 TEST(Threads, ConcurrentQueriesMatchSingleThreaded) {
   const Opened opened = openOrDie(
-      format::encodeBricked(testing::sampleField(sceneGrid(), testing::sphereField({0, 0, 0}, 12.0f)), {}, ""));
-  const auto points = testing::randomPoints({-20, -20, -20}, {20, 20, 20}, 20000, 8);
+      format::encodeBricked(analytic::sampleField(sceneGrid(), analytic::sphereField({0, 0, 0}, 12.0f)), {}, ""));
+  const auto points = analytic::randomPoints({-20, -20, -20}, {20, 20, 20}, 20000, 8);
   std::vector<Sample> expected(points.size());
   opened.view.sampleBatch(&points[0].x, sizeof(Vec3f), points.size(), expected.data(), Interpolation::kTrilinear);
   std::vector<std::vector<Sample>> results(4, std::vector<Sample>(points.size()));
@@ -232,7 +232,7 @@ TEST(Threads, ConcurrentQueriesMatchSingleThreaded) {
 }
 
 TEST(Writer, SameInputGivesIdenticalBytesAndMetadataSurvives) {
-  const DenseField field = testing::sampleField(sceneGrid(), testing::sphereField({0, 0, 0}, 9.0f));
+  const DenseField field = analytic::sampleField(sceneGrid(), analytic::sphereField({0, 0, 0}, 9.0f));
   const std::string meta = R"({"tool":"test","mode":"exact"})";
   const EncodeResult a = format::encodeBricked(field, {}, meta);
   const EncodeResult b = format::encodeBricked(field, {}, meta);
@@ -242,8 +242,8 @@ TEST(Writer, SameInputGivesIdenticalBytesAndMetadataSurvives) {
 }
 
 TEST(Writer, BrickedIsMuchSmallerThanDenseOnASphere) {
-  const DenseField field =
-      testing::sampleField(testing::cubeGrid({-32, -32, -32}, 1.0f, 64, 3.0f), testing::sphereField({0, 0, 0}, 25.0f));
+  const DenseField field = analytic::sampleField(analytic::cubeGrid({-32, -32, -32}, 1.0f, 64, 3.0f),
+                                                 analytic::sphereField({0, 0, 0}, 25.0f));
   const EncodeResult dense = format::encodeDense(field, "");
   const EncodeResult bricked = format::encodeBricked(field, {}, "");
   const double per_band_voxel = double(bricked.stats.payload_bytes) / double(bricked.stats.band_voxels);
@@ -260,7 +260,7 @@ TEST(Writer, BrickedIsMuchSmallerThanDenseOnASphere) {
 
 TEST(Writer, RefusesFieldsItCannotWrite) {
   DenseField field =
-      testing::sampleField(testing::cubeGrid({0, 0, 0}, 1.0f, 8, 2.0f), testing::sphereField({4, 4, 4}, 2));
+      analytic::sampleField(analytic::cubeGrid({0, 0, 0}, 1.0f, 8, 2.0f), analytic::sphereField({4, 4, 4}, 2));
   DenseField nan_field = field;
   nan_field.distance[5] = NAN;
   DenseField short_field = field;

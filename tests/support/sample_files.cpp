@@ -9,6 +9,8 @@
 namespace dng {
 namespace testing {
 
+using namespace analytic;
+
 std::vector<std::uint8_t> smallBrickedBox() {
   const format::GridGeometry grid = cubeGrid({-12, -12, -12}, 1.0f, 24, 2.0f);
   format::BrickOptions options;

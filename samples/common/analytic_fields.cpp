@@ -4,7 +4,7 @@
 #include <cmath>
 
 namespace dng {
-namespace testing {
+namespace analytic {
 
 AnalyticField planeField(Vec3f normal, float offset) {
   const Vec3f n = normalizeOrZero(normal);
@@ -36,6 +36,22 @@ AnalyticField boxField(Vec3f centre, Vec3f half) {
     else
       n.z = sign.z;
     return Exact{inner, n};
+  };
+}
+
+AnalyticField cylinderField(Vec3f centre, float radius, float half_height) {
+  return [centre, radius, half_height](Vec3f p) {
+    const Vec3f r = p - centre;
+    const float radial = std::sqrt(r.x * r.x + r.y * r.y);
+    const float side = radial - radius, cap = std::fabs(r.z) - half_height;
+    const Vec3f radial_dir = radial > 0.0f ? Vec3f{r.x / radial, r.y / radial, 0.0f} : Vec3f{1, 0, 0};
+    const Vec3f cap_dir{0, 0, r.z < 0 ? -1.0f : 1.0f};
+    if (side > 0.0f && cap > 0.0f) { // outside the rim: distance to the circle
+      const Vec3f d = radial_dir * side + cap_dir * cap;
+      return Exact{length(d), normalizeOrZero(d)};
+    }
+    if (side > cap) return Exact{side, radial_dir};
+    return Exact{cap, cap_dir};
   };
 }
 
@@ -71,5 +87,5 @@ std::vector<Vec3f> randomPoints(Vec3f lo, Vec3f hi, std::size_t count, std::uint
   }
   return points;
 }
-} // namespace testing
+} // namespace analytic
 } // namespace dng

@@ -1,4 +1,4 @@
-// Analytic signed distance fields for tests and benchmarks: exact distance and normal at any point,
+// Analytic signed distance fields for samples, tests and benchmarks: exact distance and normal at any point,
 // and DenseFields sampled from them at voxel centres.
 #pragma once
 
@@ -11,7 +11,7 @@
 #include <vector>
 
 namespace dng {
-namespace testing {
+namespace analytic {
 
 /// Exact signed distance (negative inside) and outward unit normal at a point.
 struct Exact {
@@ -26,6 +26,8 @@ AnalyticField planeField(Vec3f normal, float offset);
 AnalyticField sphereField(Vec3f centre, float radius);
 /// A solid axis-aligned box with the given centre and half extents.
 AnalyticField boxField(Vec3f centre, Vec3f half_extents);
+/// A solid cylinder along z (a "shaft", paper Fig. 7), capped at centre.z +- half_height.
+AnalyticField cylinderField(Vec3f centre, float radius, float half_height);
 
 /// A cubic grid of `n` voxels per axis covering [lo, lo + n * voxel_size)^3, band in voxels.
 format::GridGeometry cubeGrid(Vec3f lo, float voxel_size, std::uint32_t n, float band_voxels);
@@ -39,5 +41,5 @@ std::vector<Vec3f> randomPoints(Vec3f lo, Vec3f hi, std::size_t count, std::uint
 /// Angle between two vectors in degrees (0 when either is zero).
 inline float angleDegrees(Vec3f a, Vec3f b) { return float(dng::angleDegrees(a, b)); }
 
-} // namespace testing
+} // namespace analytic
 } // namespace dng
