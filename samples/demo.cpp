@@ -2,7 +2,6 @@
 // slide with drag and flow off it. Prints one JSON line of statistics; exits 1 if any particle ends
 // inside the mesh.
 //   dng_demo MESH.dng [OUTPUT_FOLDER] [UP_AXIS: x, y or z; default z]
-#include "dng/file.h"
 #include "figures.h"
 #include "sample_main.h"
 
@@ -10,16 +9,7 @@
 
 int main(int argc, char** argv) {
   using namespace dng::samples;
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: %s MESH.dng [OUTPUT_FOLDER] [x|y|z]\n", argv[0]);
-    return 1;
-  }
-  dng::File file;
-  dng::Diagnostic diag;
-  if (dng::File::open(argv[1], &file, &diag) != dng::Status::kOk) {
-    std::fprintf(stderr, "dng_demo: %s: %s\n", argv[1], diag.message);
-    return 2;
-  }
+  const dng::File file = openFieldArgument(argc, argv, "[OUTPUT_FOLDER] [x|y|z]");
   RunOptions options;
   options.picture_prefix = outputFolder(argc, argv, 2) + "/demo";
   const int up = argc > 3 && argv[3][0] >= 'x' && argv[3][0] <= 'z' ? argv[3][0] - 'x' : 2;

@@ -2,7 +2,6 @@
 // both sides (paper §3.1, method 2).
 //   dngbake blade.off -o blade.dng --mode potential
 //   dng_thin_sheet blade.dng [OUTPUT_FOLDER]
-#include "dng/file.h"
 #include "figures.h"
 #include "sample_main.h"
 
@@ -10,16 +9,7 @@
 
 int main(int argc, char** argv) {
   using namespace dng::samples;
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: %s SHEET.dng [OUTPUT_FOLDER]\n", argv[0]);
-    return 1;
-  }
-  dng::File file;
-  dng::Diagnostic diag;
-  if (dng::File::open(argv[1], &file, &diag) != dng::Status::kOk) {
-    std::fprintf(stderr, "dng_thin_sheet: %s: %s\n", argv[1], diag.message);
-    return 2;
-  }
+  const dng::File file = openFieldArgument(argc, argv, "[OUTPUT_FOLDER]");
   RunOptions options;
   options.picture_prefix = outputFolder(argc, argv, 2) + "/thin_sheet";
   const SheetResult r = runSheet(file.view(), options);

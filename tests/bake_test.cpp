@@ -4,6 +4,9 @@
 #include "dng/file.h"
 #include "test_meshes.h"
 
+#include "run_program.h"
+#include "temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,11 +27,6 @@ using testing::Mesh;
 
 class BakeTest : public ::testing::Test {
 protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dng_bake_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // Bakes `mesh` and maps the result; fails the test when either step fails.
@@ -43,7 +41,8 @@ protected:
     if (out_report) *out_report = report;
     return file;
   }
-  fs::path dir_;
+  testing::TempDir temp_{"bake_test"};
+  const fs::path& dir_ = temp_.path();
 };
 
 BakeOptions exactOptions() {
@@ -236,21 +235,10 @@ TEST_F(BakeTest, BandFromMaxSpeedCoversTheTravelPerStep) {
 
 // ---- The program: exit codes, messages, and nothing written on failure ----
 
-struct ProgramRun {
-  int exit_code;
-  std::string output; // stdout and stderr together
-};
+using testing::ProgramRun;
 
 ProgramRun runDngbake(const std::string& args) {
-  const std::string command = std::string(DNG_DNGBAKE_PATH) + " " + args + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  ProgramRun run{-1, {}};
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr)
-    run.output += buffer;
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + args + " 2>&1");
 }
 
 TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {

@@ -3,6 +3,9 @@
 #include "dng/file.h"
 #include "sample_files.h"
 
+#include "run_program.h"
+#include "temp_dir.h"
+
 #include <gtest/gtest.h>
 #include <png.h>
 
@@ -23,21 +26,14 @@ namespace fs = std::filesystem;
 
 struct ProgramRun {
   int exit_code = -1;
-  std::string out; // stdout
+  std::string out; // stdout (and stderr when asked)
 };
 
-// Runs dngdump in `dir` (so reports name files relatively) with stderr appended to stdout when asked.
+// Runs dngdump in `dir` (so reports name files relatively), stderr appended to stdout when asked.
 ProgramRun dngdump(const std::string& dir, const std::string& args, bool with_stderr = false) {
-  const std::string command =
-      "cd '" + dir + "' && " + DNG_DNGDUMP_PATH + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
-  FILE* pipe = ::popen(command.c_str(), "r");
-  ProgramRun run;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr)
-    run.out += buffer;
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  const testing::ProgramRun run = testing::runProgram("cd '" + dir + "' && " + DNG_DNGDUMP_PATH + " " + args +
+                                                      (with_stderr ? " 2>&1" : " 2>/dev/null"));
+  return {run.exit_code, run.output};
 }
 
 std::string readText(const std::string& path) {
@@ -57,13 +53,11 @@ void compareWithGoldenText(const std::string& name, const std::string& actual) {
 class DumpTest : public ::testing::Test {
 protected:
   void SetUp() override {
-    dir_ = (fs::temp_directory_path() / ("dng_dump_test_" + std::to_string(::getpid()))).string();
-    fs::create_directories(dir_);
     bytes_ = testing::smallBrickedBox();
     testing::writeFileBytes(dir_ + "/box.dng", bytes_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string dir_;
+  testing::TempDir temp_{"dump_test"};
+  const std::string dir_ = temp_.path().string();
   std::vector<std::uint8_t> bytes_;
 };
 

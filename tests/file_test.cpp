@@ -2,6 +2,8 @@
 #include "dng/file.h"
 #include "sample_files.h"
 
+#include "temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -17,13 +19,9 @@ namespace fs = std::filesystem;
 
 class FileTest : public ::testing::Test {
 protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dng_file_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string path(const char* name) const { return (dir_ / name).string(); }
-  fs::path dir_;
+  testing::TempDir temp_{"file_test"};
+  const fs::path& dir_ = temp_.path();
 };
 
 TEST_F(FileTest, MappedFileAnswersLikeTheBytesItHolds) {

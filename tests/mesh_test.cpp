@@ -1,6 +1,8 @@
 // Baker stage 1-2: loading meshes with OpenMesh into a soup, and the mesh checks.
 #include "baker.h"
 
+#include "temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,12 +24,6 @@ const int kCubeQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7
 
 class MeshTest : public ::testing::Test {
 protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dng_mesh_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::string write(const std::string& name, const std::string& text) const {
     const std::string path = (dir_ / name).string();
     std::ofstream(path) << text;
@@ -53,7 +49,8 @@ protected:
     EXPECT_TRUE(status.ok()) << status.message;
     return soup;
   }
-  fs::path dir_;
+  testing::TempDir temp_{"mesh_test"};
+  const fs::path& dir_ = temp_.path();
 };
 
 TEST_F(MeshTest, ClosedCubeFromObjIsTriangulatedAndClosed) {

@@ -4,6 +4,7 @@
 #include "dng/forces.h"
 #include "dng/format/writer.h"
 #include "dng/particles.h"
+#include "scene.h"
 
 #include <gtest/gtest.h>
 
@@ -17,30 +18,8 @@ using analytic::AnalyticField;
 
 constexpr float kDt = 1.0f / 60.0f;
 
-// Structure-of-arrays particles owned by the test.
-struct Particles {
-  std::vector<float> px, py, pz, vx, vy, vz;
-  std::vector<std::uint8_t> contact;
-  std::vector<std::int32_t> body;
-
-  void add(Vec3f p, Vec3f v) {
-    px.push_back(p.x), py.push_back(p.y), pz.push_back(p.z);
-    vx.push_back(v.x), vy.push_back(v.y), vz.push_back(v.z);
-    contact.push_back(0), body.push_back(-2);
-  }
-  std::size_t size() const { return px.size(); }
-  Vec3f position(std::size_t n) const { return {px[n], py[n], pz[n]}; }
-  Vec3f velocity(std::size_t n) const { return {vx[n], vy[n], vz[n]}; }
-  ParticleSpan span() {
-    ParticleSpan s;
-    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
-    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
-    s.count = size();
-    s.out_contact = contact.data();
-    s.out_body = body.data();
-    return s;
-  }
-};
+// Structure-of-arrays particles, as the samples keep them.
+using Particles = samples::Swarm;
 
 // A field baked from an analytic shape into a 40^3 grid of unit voxels. Its band has the half-voxel-
 // diagonal guard on top of 3 voxels, so its guaranteed reach, and design speed, is 3 voxels per step

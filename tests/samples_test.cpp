@@ -6,10 +6,8 @@
 #ifdef DNG_HAVE_BAKER
 #include "baker.h"
 #include "dng/file.h"
+#include "temp_dir.h"
 #include "test_meshes.h"
-
-#include <filesystem>
-#include <unistd.h>
 #endif
 
 namespace dng {
@@ -71,11 +69,6 @@ TEST(Samples, Fig8ExplosionFlowsBetweenTheBuildings) {
 #ifdef DNG_HAVE_BAKER
 class BakedSamples : public ::testing::Test {
 protected:
-  void SetUp() override {
-    dir_ = (std::filesystem::temp_directory_path() / ("dng_samples_" + std::to_string(::getpid()))).string();
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   File bake(const testing::Mesh& mesh, baker::NormalMode mode, const std::string& name) {
     testing::writeObj(mesh, dir_ + "/" + name + ".obj");
     baker::BakeOptions options;
@@ -89,7 +82,8 @@ protected:
     EXPECT_EQ(File::open((dir_ + "/" + name + ".dng").c_str(), &file), Status::kOk);
     return file;
   }
-  std::string dir_;
+  testing::TempDir temp_{"samples_test"};
+  const std::string dir_ = temp_.path().string();
 };
 
 // A zero-thickness sheet in potential mode keeps particles from both sides on their side.

@@ -2,6 +2,7 @@
 // the .dng written by the same bake.
 #include "baker.h"
 #include "dng/file.h"
+#include "temp_dir.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -16,8 +17,8 @@ namespace baker {
 namespace {
 
 TEST(VdbExport, GridsMatchTheDngAtTheSameWorldPositions) {
-  const std::string dir = (std::filesystem::temp_directory_path() / ("dng_vdb_" + std::to_string(::getpid()))).string();
-  std::filesystem::create_directories(dir);
+  const testing::TempDir temp("vdb_export_test");
+  const std::string dir = temp.path().string();
   testing::writeObj(testing::sphereMesh({0.2f, 0, 0}, 1.0f, 24, 12), dir + "/sphere.obj");
   BakeOptions options;
   options.mode = NormalMode::kExact;
@@ -51,7 +52,6 @@ TEST(VdbExport, GridsMatchTheDngAtTheSameWorldPositions) {
     ++compared;
   }
   EXPECT_GT(compared, 1000);
-  std::filesystem::remove_all(dir);
 }
 
 } // namespace
