@@ -114,15 +114,17 @@ void printStats(const View& view, bool json) {
         ++band;
         const int bin = std::min(kBins - 1, int((s.distance + g.band) / (2.0f * g.band) * kBins));
         ++distance_bins[std::max(0, bin)];
-        if (i + 1 < g.dims[0]) { // deviation from the +x neighbour, when it is in band too
-          const Sample n = view.sample(centre(i + 1, j, k));
-          if (n.status == SampleStatus::kInBand) {
-            const double angle = angleDegrees(s.normal, n.normal);
-            int a = 0;
-            while (a + 1 < kBins && angle > angle_edges[a])
-              ++a;
-            ++angle_bins[a];
-          }
+        // Deviation from the +x, +y and +z neighbours that are in band too.
+        const std::uint32_t next[3][3] = {{i + 1, j, k}, {i, j + 1, k}, {i, j, k + 1}};
+        for (int axis = 0; axis < 3; ++axis) {
+          if (next[axis][axis] >= g.dims[axis]) continue;
+          const Sample n = view.sample(centre(next[axis][0], next[axis][1], next[axis][2]));
+          if (n.status != SampleStatus::kInBand) continue;
+          const double angle = angleDegrees(s.normal, n.normal);
+          int a = 0;
+          while (a + 1 < kBins && angle > angle_edges[a])
+            ++a;
+          ++angle_bins[a];
         }
       }
   Json j;
@@ -141,7 +143,7 @@ void printStats(const View& view, bool json) {
   for (int b = 0; b < kBins; ++b)
     std::printf("  [%8.4g, %8.4g) %llu\n", -double(g.band) + 2.0 * g.band * b / kBins,
                 -double(g.band) + 2.0 * g.band * (b + 1) / kBins, (unsigned long long)distance_bins[b]);
-  std::printf("normal deviation between +x neighbours in band, degrees:\n");
+  std::printf("normal deviation between neighbouring voxels in band (x, y and z), degrees:\n");
   for (int b = 0; b < kBins; ++b)
     std::printf("  <= %5g %llu\n", double(angle_edges[b]), (unsigned long long)angle_bins[b]);
 }

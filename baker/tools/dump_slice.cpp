@@ -70,33 +70,16 @@ void imageAxes(int axis, int* out_u, int* out_v) {
 
 float component(Vec3f v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 
-// libpng reports errors by longjmp: keep that inside one small function with no locals to clobber.
-bool encodePng(const Image& image, FILE* file) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  if (png == nullptr) return false;
-  png_infop info = png_create_info_struct(png);
-  if (info == nullptr || setjmp(png_jmpbuf(png)) != 0) {
-    png_destroy_write_struct(&png, &info);
-    return false;
-  }
-  png_init_io(png, file);
-  png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int y = 0; y < image.height; ++y)
-    png_write_row(png, reinterpret_cast<png_const_bytep>(&image.pixels[std::size_t(y) * image.width]));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return true;
-}
-
 bool writePng(const Image& image, const std::string& path) {
   const std::string temp = path + ".tmp." + std::to_string(::getpid());
-  FILE* file = std::fopen(temp.c_str(), "wb");
-  if (file == nullptr) return false;
-  const bool encoded = encodePng(image, file);
-  const bool ok = std::fclose(file) == 0 && encoded;
-  if (ok && std::rename(temp.c_str(), path.c_str()) == 0) return true;
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = png_uint_32(image.width);
+  png.height = png_uint_32(image.height);
+  png.format = PNG_FORMAT_RGB;
+  if (png_image_write_to_file(&png, temp.c_str(), 0, image.pixels.data(), 0, nullptr) &&
+      std::rename(temp.c_str(), path.c_str()) == 0)
+    return true;
   std::remove(temp.c_str());
   return false;
 }
