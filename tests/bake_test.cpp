@@ -15,9 +15,6 @@
 #include <fstream>
 #include <random>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 namespace dng {
 namespace baker {
 namespace {

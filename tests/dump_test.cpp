@@ -16,9 +16,6 @@
 #include <iomanip>
 #include <sstream>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 namespace dng {
 namespace {
 

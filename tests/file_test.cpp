@@ -10,8 +10,6 @@
 #include <filesystem>
 #include <utility>
 
-#include <unistd.h>
-
 namespace dng {
 namespace {
 

@@ -9,8 +9,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include <unistd.h>
-
 namespace dng {
 namespace baker {
 namespace {

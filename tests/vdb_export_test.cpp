@@ -8,8 +8,6 @@
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
-#include <filesystem>
-
 #include <unistd.h>
 
 namespace dng {
