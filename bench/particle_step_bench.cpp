@@ -7,7 +7,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <tuple>
 
 namespace {
 
@@ -27,6 +30,24 @@ struct Swarm {
     return s;
   }
 };
+
+// The same particles sorted by the voxel they are in (z, then y, then x): what a caller gains by
+// keeping particles in spatial order.
+Swarm sortedSwarm(const Swarm& in) {
+  std::vector<std::size_t> order(in.px.size());
+  for (std::size_t n = 0; n < order.size(); ++n)
+    order[n] = n;
+  auto cell = [&](std::size_t n) {
+    return std::make_tuple(int(std::floor(in.pz[n])), int(std::floor(in.py[n])), int(std::floor(in.px[n])));
+  };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cell(a) < cell(b); });
+  Swarm out;
+  for (std::size_t n : order) {
+    out.px.push_back(in.px[n]), out.py.push_back(in.py[n]), out.pz.push_back(in.pz[n]);
+    out.vx.push_back(in.vx[n]), out.vy.push_back(in.vy[n]), out.vz.push_back(in.vz[n]);
+  }
+  return out;
+}
 
 const Swarm& pristineSwarm() {
   static const Swarm* swarm = [] {
@@ -58,17 +79,20 @@ Material materialFor(int responses) {
   return m;
 }
 
-// Arguments: encoding (0 dense, 1 bricked, 2 no body), responses (1 impact, 2 impact+drag+flow, 3 the same, swept).
+// Arguments: encoding (0 dense, 1 bricked, 2 no body), responses (1 impact, 2 impact+drag+flow, 3 the same,
+// swept), order (0 as emitted: random, 1 sorted by voxel).
 void BM_Step(benchmark::State& state) {
   const auto& scene = bench::sphereScene();
-  Swarm swarm = pristineSwarm();
+  static const Swarm sorted = sortedSwarm(pristineSwarm());
+  const Swarm& start = state.range(2) == 1 ? sorted : pristineSwarm();
+  Swarm swarm = start;
   Body body;
   const bool with_body = state.range(0) != 2;
   if (with_body)
     Body::create(state.range(0) == 0 ? &scene.dense : &scene.bricked, materialFor(int(state.range(1))), &body);
   for (auto _ : state) {
     state.PauseTiming(); // every iteration steps the same particles from the same state
-    swarm = pristineSwarm();
+    swarm = start;
     state.ResumeTiming();
     applyGravity(swarm.span(), {0.0f, 0.0f, -9.81f}, kDt);
     stepParticles(swarm.span(), kDt, with_body ? &body : nullptr, with_body ? 1 : 0);
@@ -76,12 +100,19 @@ void BM_Step(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   static const char* const kResponses[] = {"", "impact", "impact+drag+flow", "impact+drag+flow swept"};
-  state.SetLabel(with_body ? std::string(state.range(0) ? "bricked " : "dense ") + kResponses[state.range(1)]
-                           : std::string("no collision"));
+  state.SetLabel((with_body ? std::string(state.range(0) ? "bricked " : "dense ") + kResponses[state.range(1)]
+                            : std::string("no collision")) +
+                 (state.range(2) ? ", sorted" : ", random"));
   state.counters["per_particle"] = benchmark::Counter(
       double(kParticles), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_Step)->Args({2, 0})->ArgsProduct({{0, 1}, {1, 2, 3}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Step)
+    ->Args({2, 0, 0})
+    ->Args({2, 0, 1})
+    ->ArgsProduct({{0, 1}, {1, 2, 3}, {0}})
+    ->Args({1, 2, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 } // namespace
 
