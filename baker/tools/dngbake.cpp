@@ -3,6 +3,8 @@
 // 5 unsupported, 130 interrupted.
 #include "baker.h"
 
+#include "command_line.h"
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -152,12 +154,7 @@ int main(int argc, char** argv) {
   CLI::App app{"dngbake: bake a mesh into a distance/normal grid (.dng)", "dngbake"};
   CommandLine cl;
   addOptions(app, cl);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int cli_code = app.exit(e); // prints help, version or the parse error
-    return cli_code == 0 ? 0 : int(ExitCode::kUsage);
-  }
+  if (const int code = dng::tools::parseOrExitCode(app, argc, argv); code >= 0) return code;
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   Progress progress{wantProgress(cl)};

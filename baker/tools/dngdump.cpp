@@ -2,6 +2,8 @@
 // exactly what a game reads. Exit codes: 0 ok, 1 usage, 2 I/O, 3 invalid file or input.
 #include "dump.h"
 
+#include "command_line.h"
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -152,12 +154,7 @@ int main(int argc, char** argv) {
   CLI::App app{"dngdump: inspect, validate, query and draw .dng files", "dngdump"};
   CommandLine cl;
   addOptions(app, cl);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? kOk : kUsage;
-  }
+  if (const int code = dng::tools::parseOrExitCode(app, argc, argv); code >= 0) return code;
   File file;
   Diagnostic diag;
   if (File::open(cl.file.c_str(), &file, &diag) != Status::kOk) {
