@@ -8,6 +8,7 @@
 #   bash setup.sh runtime-only   build and test format + runtime with the baker and its libraries off
 #   bash setup.sh format-check   check clang-format on every source file
 #   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
+#   bash setup.sh fuzz [SECONDS] fuzz the loader with libFuzzer (default 60 s; needs clang)
 #
 # Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
 # Every command installs what it needs first; running it twice does no extra work.
@@ -101,6 +102,17 @@ fetch_data() {
   fi
 }
 
+# libFuzzer on View::open, seeded with the golden files; fails on any crash or sanitizer report.
+cmd_fuzz() {
+  install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev
+  local build="$ROOT/build/fuzz" corpus="$ROOT/build/fuzz/corpus"
+  CC=clang CXX=clang++ configure_and_build "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDNG_BUILD_FUZZ=ON \
+    -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF
+  mkdir -p "$corpus"
+  cp "$ROOT"/tests/golden/*.dng "$corpus/"
+  "$build/tests/fuzz/fuzz_open" -max_total_time="${1:-60}" -max_len=65536 -print_final_stats=1 "$corpus"
+}
+
 cmd_bench() {
   deps
   install_packages python3
@@ -156,6 +168,7 @@ case "${1:-}" in
   runtime-only) cmd_runtime_only ;;
   format-check) cmd_format_check ;;
   bench) cmd_bench ;;
+  fuzz) cmd_fuzz "${2:-60}" ;;
   demo) cmd_demo ;;
   *) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
 esac
