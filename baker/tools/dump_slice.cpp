@@ -68,8 +68,6 @@ void imageAxes(int axis, int* out_u, int* out_v) {
   *out_v = axis == 2 ? 1 : 2;
 }
 
-float component(Vec3f v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
-
 bool writePng(const Image& image, const std::string& path) {
   const std::string temp = path + ".tmp." + std::to_string(::getpid());
   png_image png{};

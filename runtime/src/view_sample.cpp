@@ -17,12 +17,6 @@
 #include <cstring>
 #include <limits>
 
-#if defined(__GNUC__) || defined(__clang__)
-#define DNG_FORCE_INLINE inline __attribute__((always_inline))
-#else
-#define DNG_FORCE_INLINE inline
-#endif
-
 namespace dng {
 
 namespace fmt = format;

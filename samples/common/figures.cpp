@@ -143,10 +143,12 @@ StreamResult runStream(const std::vector<Body>& bodies, Vec3f from, Vec3f direct
   setup.spawn_per_step = std::max(1, sized(o, 6000) / 60);
   const Vec3f u = std::fabs(direction.z) > 0.9f ? Vec3f{1, 0, 0} : normalizeOrZero(cross(direction, {0, 0, 1}));
   const Vec3f w = cross(direction, u);
-  setup.spawn = [=](std::mt19937& rng, Vec3f* p, Vec3f* v) {
+  std::vector<float> start_offsets; // each particle's distance from the stream's axis at spawn
+  setup.spawn = [&](std::mt19937& rng, Vec3f* p, Vec3f* v) {
     const float r = radius * std::sqrt(uniform(rng, 0, 1)), a = uniform(rng, 0, 2 * kPi);
     *p = from + u * (r * std::cos(a)) + w * (r * std::sin(a));
     *v = direction * speed;
+    start_offsets.push_back(r);
   };
   Trails trails(o, view_lo, view_hi, bodies, colour);
   Swarm swarm;
@@ -154,14 +156,10 @@ StreamResult runStream(const std::vector<Body>& bodies, Vec3f from, Vec3f direct
   result.stats = runScene(setup, &swarm, trails.recorder());
   trails.write();
   // Of the particles that started aimed at the obstacle (within half the disk), who got past it?
-  std::mt19937 replay(setup.seed); // the spawner's order is deterministic: rebuild the start offsets
   std::size_t aimed = 0, past_count = 0;
   double offset_sum = 0;
   for (std::size_t n = 0; n < swarm.size(); ++n) {
-    Vec3f p0, v0;
-    setup.spawn(replay, &p0, &v0);
-    const Vec3f start = p0 - from;
-    if (length(start) > 0.5f * radius) continue;
+    if (start_offsets[n] > 0.5f * radius) continue;
     ++aimed;
     const Vec3f p = swarm.position(n) - from;
     const float along = dot(p, direction);
@@ -331,9 +329,9 @@ SceneStats runDemo(const View& field, int up, const RunOptions& o) {
   m.swept = true; // falling particles may outrun the band: trace their steps
   SceneSetup setup;
   setup.bodies = {placeBody(field, m)};
-  const float height = up == 0 ? size.x : up == 1 ? size.y : size.z;
+  const float height = component(size, up);
   Vec3f down;
-  (up == 0 ? down.x : up == 1 ? down.y : down.z) = -9.81f * height / 2.0f; // a ~1 unit mesh: scale gravity to it
+  component(down, up) = -9.81f * height / 2.0f; // a ~1 unit mesh: scale gravity to it
   setup.forces.gravity = down;
   setup.steps = 240;
   setup.spawn_steps = 120;

@@ -11,8 +11,6 @@ namespace samples {
 
 namespace {
 
-float axisOf(Vec3f v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
-
 // March one body along the ray start + t dir, t in [t0, t1]: the first t where its field says
 // distance <= 0, and the normal there. Steps by the sampled distance (sphere tracing), never less
 // than a quarter voxel.
@@ -37,7 +35,7 @@ bool traceBody(const Body& body, Vec3f start, Vec3f dir, float t0, float t1, flo
 Picture::Picture(Vec3f lo, Vec3f hi, int view_axis, int long_side) : lo_(lo), hi_(hi), axis_(view_axis) {
   u_ = view_axis == 0 ? 1 : 0;
   v_ = view_axis == 2 ? 1 : 2;
-  const float su = axisOf(hi - lo, u_), sv = axisOf(hi - lo, v_);
+  const float su = component(hi - lo, u_), sv = component(hi - lo, v_);
   pixels_per_unit_ = float(long_side) / std::max(su, sv);
   width_ = std::max(1, int(su * pixels_per_unit_));
   height_ = std::max(1, int(sv * pixels_per_unit_));
@@ -47,24 +45,24 @@ Picture::Picture(Vec3f lo, Vec3f hi, int view_axis, int long_side) : lo_(lo), hi
 }
 
 bool Picture::project(Vec3f p, int* x, int* y, float* depth) const {
-  *x = int((axisOf(p, u_) - axisOf(lo_, u_)) * pixels_per_unit_);
-  *y = height_ - 1 - int((axisOf(p, v_) - axisOf(lo_, v_)) * pixels_per_unit_);
-  *depth = axisOf(hi_, axis_) - axisOf(p, axis_);
+  *x = int((component(p, u_) - component(lo_, u_)) * pixels_per_unit_);
+  *y = height_ - 1 - int((component(p, v_) - component(lo_, v_)) * pixels_per_unit_);
+  *depth = component(hi_, axis_) - component(p, axis_);
   return *x >= 0 && *y >= 0 && *x < width_ && *y < height_;
 }
 
 void Picture::drawBodies(const std::vector<Body>& bodies) {
   const Vec3f light = normalizeOrZero({0.45f, 0.35f, 0.82f});
   Vec3f dir;
-  (axis_ == 0 ? dir.x : axis_ == 1 ? dir.y : dir.z) = -1.0f;
+  component(dir, axis_) = -1.0f;
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x) {
       float start_coords[3];
-      start_coords[axis_] = axisOf(hi_, axis_);
-      start_coords[u_] = axisOf(lo_, u_) + (float(x) + 0.5f) / pixels_per_unit_;
-      start_coords[v_] = axisOf(lo_, v_) + (float(height_ - 1 - y) + 0.5f) / pixels_per_unit_;
+      start_coords[axis_] = component(hi_, axis_);
+      start_coords[u_] = component(lo_, u_) + (float(x) + 0.5f) / pixels_per_unit_;
+      start_coords[v_] = component(lo_, v_) + (float(height_ - 1 - y) + 0.5f) / pixels_per_unit_;
       const Vec3f start{start_coords[0], start_coords[1], start_coords[2]};
-      const float length = axisOf(hi_ - lo_, axis_);
+      const float length = component(hi_ - lo_, axis_);
       float best = std::numeric_limits<float>::infinity();
       Vec3f normal;
       for (const Body& b : bodies) {

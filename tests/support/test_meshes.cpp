@@ -132,7 +132,7 @@ Mesh withoutFace(const Mesh& box, int axis) {
     const float values[3] = {centroid.x, centroid.y, centroid.z};
     float top = -1e30f;
     for (const auto& v : box.vertices)
-      top = std::max(top, axis == 0 ? v.x : axis == 1 ? v.y : v.z);
+      top = std::max(top, component(v, axis));
     if (std::fabs(values[axis] - top) > 1e-5f) out.triangles.push_back(t);
   }
   return out;

@@ -33,11 +33,7 @@ inline constexpr std::uint32_t kMaxPoolBricks = 1u << 30;
 /// Octahedral decode of two `bits`-wide integers. Total: every input gives a finite unit vector.
 /// Correctly rounded sqrt and division only, so results are identical on every IEEE-754 host (a
 /// hardware rsqrt estimate was measured no faster here and would differ between CPU models).
-#if defined(__GNUC__) || defined(__clang__)
-__attribute__((always_inline))
-#endif
-inline Vec3f
-octDecode(std::uint32_t qu, std::uint32_t qv, int bits) {
+DNG_FORCE_INLINE Vec3f octDecode(std::uint32_t qu, std::uint32_t qv, int bits) {
   const float scale = 2.0f / float((1u << bits) - 1);
   float x = float(qu) * scale - 1.0f;
   float y = float(qv) * scale - 1.0f;
