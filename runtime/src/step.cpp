@@ -65,12 +65,20 @@ struct Guard {
   float distance = std::numeric_limits<float>::infinity(); // world units, at the start of the step
 };
 
+// The body's surface as seen from world point `p`, when p lies within the body's band: distance
+// scaled to world units, normal rotated to world. False outside the bounds or the band.
+bool contactAt(const Body& body, Vec3f p, Contact* out) {
+  if (!insideBounds(body, p)) return false;
+  const Sample s = body.field()->sample(body.toLocal(p));
+  if (s.status != SampleStatus::kInBand) return false;
+  *out = {s.distance * body.scale(), body.rotateToWorld(s.normal)};
+  return true;
+}
+
 // Samples one body at the particle and applies its material to the velocity relative to its surface.
 void respondToBody(const Body& body, std::size_t index, float dt, ParticleState* io, Touch* io_touch, Guard* io_guard) {
-  if (!insideBounds(body, io->position)) return;
-  const Sample s = body.field()->sample(body.toLocal(io->position));
-  if (s.status != SampleStatus::kInBand) return;
-  const Contact contact{s.distance * body.scale(), body.rotateToWorld(s.normal)};
+  Contact contact;
+  if (!contactAt(body, io->position, &contact)) return;
   if (contact.distance < io_guard->distance) *io_guard = {std::int32_t(index), contact.distance};
   const Vec3f surface = body.surfaceVelocity(io->position);
   Vec3f relative = io->velocity - surface;
@@ -128,9 +136,8 @@ void guardContact(const Body* bodies, const Guard& guard, Vec3f start, ParticleS
   // No shortcut by "moved less than its distance": the true distance is 1-Lipschitz, but the
   // sampled one is not across an edge voxel (seen: +1.06 to -0.66 over a 1.05 move), and it is the
   // sampled distance that the next step's bounce will trust.
-  if (!insideBounds(body, io->position)) return;
-  const Sample s = body.field()->sample(body.toLocal(io->position));
-  if (s.status != SampleStatus::kInBand || s.distance >= 0.0f) return;
+  Contact after;
+  if (!contactAt(body, io->position, &after) || after.distance >= 0.0f) return;
   const Vec3f surface = body.surfaceVelocity(start);
   io->position = start;
   io->velocity = surface - (io->velocity - surface) * body.material().restitution;
