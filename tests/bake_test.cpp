@@ -271,7 +271,8 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("flat.obj"), 3, "degenerate"},
       {path("good.obj") + " --mode sideways", 1, "sideways"},
       {path("good.obj") + " --resolution 4", 1, "resolution"},
-      {path("good.obj") + " --resolution 2000", 1, "at most 134,217,728"},
+      {path("good.obj") + " --resolution 2000 --encoding dense", 1, "at most 134,217,728"},
+      {path("good.obj") + " --voxel-size 0.0001", 1, "at most 2048"},
       {path("good.obj") + " --band 2 --max-speed 3 --dt 0.1", 1, "excludes"},
   };
   for (const Case& c : cases) {

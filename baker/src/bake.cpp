@@ -111,26 +111,25 @@ BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const Bake
       options.sign == SignMode::kPseudonormal || (options.sign == SignMode::kAuto && report->mesh.wellFormedSolid());
   report->sign = use_pseudonormals ? "pseudonormal" : "winding";
   if (use_pseudonormals && !(status = pseudonormals.build(soup, report->mesh)).ok()) return status;
-  DistanceResult distance;
-  status =
-      computeDistanceField(soup, report->grid, use_pseudonormals ? &pseudonormals : nullptr, progress, user, &distance);
+  BandGrid band(report->grid);
+  status = computeDistanceField(soup, use_pseudonormals ? &pseudonormals : nullptr, progress, user, &band);
   if (!status.ok()) return status;
   timer.done("distance");
-  if (!(status = applyNormalMode(soup, options, &distance)).ok()) return status;
+  if (!(status = applyNormalMode(soup, options, &band)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return cancelled();
 
   const std::string meta = metadataJson(options, report->grid, report->source_hash, report->sign);
   format::EncodeResult encoded = options.encoding == format::Encoding::kDense
-                                     ? format::encodeDense(distance.field, meta)
-                                     : format::encodeBricked(distance.field, options.brick, meta);
+                                     ? format::encodeDense(band, meta)
+                                     : format::encodeBricked(band, options.brick, meta);
   if (!encoded.ok()) return BakeStatus::failure(ExitCode::kInternal, "encoding failed: " + encoded.error);
   report->encode = encoded.stats;
   timer.done("encode");
   if (!reportStage(progress, user, "encode")) return cancelled();
 
   if (!outputs.vdb.empty()) {
-    if (!(status = exportVdb(distance, outputs.vdb)).ok()) return status;
+    if (!(status = exportVdb(band, outputs.vdb)).ok()) return status;
     timer.done("export_vdb");
   }
   if (!(status = writeFileAtomically(outputs.dng, encoded.bytes)).ok()) return status;

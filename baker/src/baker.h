@@ -5,14 +5,17 @@
 //   winding_number.cpp  fast generalized winding number on an Embree-built BVH (the sign)
 //   pseudonormal.cpp    sign by angle-weighted pseudonormals (closed manifold meshes only)
 //   grid_placement.cpp  where the grid goes, how fine, how thick the band
-//   distance_field.cpp  exact unsigned distance, sign, exact normals (TBB over slices)
-//   normal_modes.cpp    the paper's normal-blur and potential-gradient normals
+//   band_grid.cpp       the working store: the band as sparse OpenVDB grids (band_grid.h)
+//   distance_field.cpp  the band's blocks, exact unsigned distance, sign, exact normals (TBB over blocks)
+//   normal_modes.cpp    surface rasterization for the paper's normal-blur and potential-gradient normals
+//   blurred_normals.cpp the paper's blur on OpenVDB grids, and each method's normals from it
 //   bake.cpp            the whole pipeline with timings, progress and cancel
 //   write_file.cpp      atomic output: temporary file, fsync, rename
-//   export_vdb.cpp      the band as OpenVDB grids (the only OpenVDB translation unit: it is slow to compile)
+//   export_vdb.cpp      the band grids written as a .vdb
+// Only band_grid.cpp, blurred_normals.cpp and export_vdb.cpp include OpenVDB: each takes ~25 s to compile.
 #pragma once
 
-#include "dng/format/dense_field.h"
+#include "band_grid.h"
 #include "dng/format/vec3.h"
 #include "dng/format/writer.h"
 
@@ -180,23 +183,32 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
 /// Progress of the long stages: stage name and fraction in [0, 1]. Returning false cancels the bake.
 using ProgressFn = bool (*)(void* user, const char* stage, double fraction);
 
-/// Per-voxel results of the distance stage, kept for the normal modes.
-struct DistanceResult {
-  format::DenseField field;          ///< signed distance; normals exact (or zero for far voxels)
-  std::vector<std::uint8_t> in_band; ///< 1 where the closest surface point is within the band
-  std::uint64_t band_voxels = 0;
+/// Fills `out` (empty, over the grid placeGrid chose): exact distance (Embree) at every voxel within
+/// the band, sign (winding number, or pseudonormals when `pseudonormals` is given), exact normals,
+/// then BandGrid::finishBand. Deterministic whatever the thread count.
+BakeStatus computeDistanceField(const TriangleSoup& soup, const PseudonormalSign* pseudonormals, ProgressFn progress,
+                                void* progress_user, BandGrid* out);
+
+/// Replaces the band's normals by the paper's method 1 (normal-blur) or 2 (potential gradient);
+/// exact mode keeps them. Surface voxels are those any triangle overlaps (exact triangle/box test).
+BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, BandGrid* io);
+
+/// A voxel the surface overlaps, with the average normal of the triangles overlapping it.
+struct SurfaceVoxel {
+  std::array<std::int32_t, 3> ijk;
+  Vec3f normal;
 };
 
-/// Exact distance (Embree), sign (winding number, or pseudonormals when `pseudonormals` is given;
-/// far regions filled from their band neighbours) and exact normals. Deterministic whatever the
-/// thread count.
-BakeStatus computeDistanceField(const TriangleSoup& soup, const format::GridGeometry& grid,
-                                const PseudonormalSign* pseudonormals, ProgressFn progress, void* progress_user,
-                                DistanceResult* out);
+/// Method 1's blur (paper §3.1): the surface normals blurred with the tent kernel of `radius` for
+/// `rounds` rounds, surface voxels reset after each; every band voxel the blur reaches takes the
+/// normalized result, the others keep their normal.
+void blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds, BandGrid* io);
 
-/// Replaces the normals of `io` by the paper's method 1 (normal-blur) or 2 (potential gradient).
-/// Surface voxels are those any triangle overlaps (exact triangle/box test).
-BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, DistanceResult* io);
+/// Method 2 (paper §3.1): occupancy 1 at surface voxels blurred the same way; band voxels take the
+/// normalized downhill gradient by central differences, oriented into the hemisphere of their exact
+/// normal, where the gradient is not flat.
+void potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
+                      BandGrid* io);
 
 /// What a bake did, for the JSON report.
 struct BakeReport {
@@ -221,9 +233,9 @@ struct BakeOutputs {
 BakeStatus bake(const std::string& input_path, const BakeOutputs& outputs, const BakeOptions& options,
                 ProgressFn progress, void* progress_user, BakeReport* out_report);
 
-/// Writes the band voxels of `field` as two OpenVDB grids, "distance" (a level set: FloatGrid,
-/// background = band) and "normal" (Vec3SGrid), in the same world placement, to `path` atomically.
-BakeStatus exportVdb(const DistanceResult& field, const std::string& path);
+/// Writes the band as two OpenVDB grids, "distance" (a level set: FloatGrid, background = band,
+/// active = band voxels) and "normal" (Vec3SGrid), in the .dng's world placement, to `path` atomically.
+BakeStatus exportVdb(const BandGrid& band, const std::string& path);
 
 /// Writes `bytes` to `path` through a temporary file in the same folder, fsync and rename: readers
 /// see the old file or the new one, never a partial one. The temporary is removed on failure.

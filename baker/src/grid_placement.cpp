@@ -12,9 +12,9 @@ namespace {
 constexpr float kHalfDiagonal = 0.8660254f; // View::guaranteedReach's guard, in voxels
 constexpr float kSpeedMargin = 0.5f;        // extra voxels on top of the travel per step
 constexpr std::uint32_t kMaxAxisVoxels = 2048;
-// The working store is dense (about 54 bytes per voxel at the peak of a normal-blur bake): refuse grids
-// that would not fit comfortably in memory instead of failing half-way. 2^27 voxels is 512^3, ~7 GB.
-constexpr double kMaxVoxels = double(1u << 27);
+// The working store is sparse (memory follows the surface), but a dense file holds 16 bytes per voxel
+// and is built in memory: refuse dense grids over 2^27 voxels (512^3, a 2 GB file) up front.
+constexpr double kMaxDenseVoxels = double(1u << 27);
 
 // Band in voxels for a voxel size: from --band, or from max speed * dt plus the guard.
 float bandVoxels(const BakeOptions& o, float voxel) {
@@ -80,11 +80,11 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
   }
   g.origin = {origin[0], origin[1], origin[2]};
   const double voxels = double(g.dims[0]) * g.dims[1] * g.dims[2];
-  if (voxels > kMaxVoxels)
+  if (options.encoding == format::Encoding::kDense && voxels > kMaxDenseVoxels)
     return BakeStatus::failure(ExitCode::kUsage,
                                "the grid would have " + std::to_string(std::uint64_t(voxels)) +
-                                   " voxels; this version bakes at most 134,217,728 (512^3, about 7 GB while baking): "
-                                   "use a larger --voxel-size or a smaller --resolution");
+                                   " voxels; dense files hold at most 134,217,728 (512^3, 2 GB): use "
+                                   "--encoding bricked, a larger --voxel-size or a smaller --resolution");
   if (band * 4.0f > float(std::min({g.dims[0], g.dims[1], g.dims[2]})))
     io_warnings->push_back("the band (" + std::to_string(band) +
                            " voxels) is more than a quarter of the grid: particles this fast need a coarser grid or "

@@ -5,7 +5,9 @@
 //      normal within the tolerances (the paper: "turn the distance/normal information into a plane
 //      equation");
 //   3. a brick of 32-bit words in the pool (octahedral normal + brick-affine 10-bit distance).
-// Single-threaded and free of unordered containers, so the output depends only on the input.
+// Bricks are read from the source one at a time into a small buffer, so a sparse source never has to
+// expand into a dense grid. Single-threaded and free of unordered containers, so the output depends
+// only on the input.
 #include "dng/format/codec.h"
 #include "dng/format/writer.h"
 #include "grid_section.h"
@@ -20,7 +22,8 @@ namespace {
 constexpr float kDegrees = 57.29577951308232f;
 
 struct Encoder {
-  const DenseField& field;
+  const FieldSource& source;
+  const GridGeometry& grid;
   std::uint32_t log2;
   std::uint32_t size;
   float tolerance_local; // distance tolerance in local units
@@ -28,6 +31,8 @@ struct Encoder {
   std::vector<std::uint64_t> top;
   std::vector<std::uint32_t> pool;
   EncodeStats stats;
+  std::vector<float> distance; // the brick being encoded, x fastest
+  std::vector<Vec3f> normal;
 };
 
 // A brick's voxel range, clipped to the grid.
@@ -36,35 +41,37 @@ struct BrickBox {
   std::uint32_t hi[3]; // exclusive
 };
 
-template <class Visit> void forEachVoxel(const Encoder& e, const BrickBox& box, Visit visit) {
+// Calls visit(i, j, k, v) for every voxel of the brick, v indexing the brick buffer.
+template <class Visit> void forEachVoxel(const BrickBox& box, Visit visit) {
+  std::size_t v = 0;
   for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
     for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
       for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
-        visit(i, j, k, e.field.grid.index(i, j, k));
+        visit(i, j, k, v++);
 }
 
 float clampToBand(float d, float band) { return std::min(std::max(d, -band), band); }
 
-bool inBand(const Encoder& e, std::size_t v) { return std::fabs(e.field.distance[v]) < e.field.grid.band; }
+bool inBand(const Encoder& e, std::size_t v) { return std::fabs(e.distance[v]) < e.grid.band; }
 
 // Records the error of a decoded (distance, normal) against the input voxel it stands for.
 void measure(Encoder& e, std::size_t v, float decoded_distance, Vec3f decoded_normal) {
-  const float h = e.field.grid.voxel_size;
+  const float h = e.grid.voxel_size;
   e.stats.max_distance_error_voxels =
-      std::max(e.stats.max_distance_error_voxels, std::fabs(decoded_distance - e.field.distance[v]) / h);
+      std::max(e.stats.max_distance_error_voxels, std::fabs(decoded_distance - e.distance[v]) / h);
   // A zero input normal (the producer gave none) compares as 0 degrees: nothing to compare.
-  const auto angle = float(angleDegrees(e.field.normal[v], decoded_normal));
+  const auto angle = float(angleDegrees(e.normal[v], decoded_normal));
   e.stats.max_normal_error_deg = std::max(e.stats.max_normal_error_deg, angle);
 }
 
 // Far tile when every voxel lies beyond the band on one side.
 bool tryFarTile(Encoder& e, const BrickBox& box, std::uint64_t* out_entry) {
-  const float band = e.field.grid.band;
+  const float band = e.grid.band;
   bool all_outside = true;
   bool all_inside = true;
-  forEachVoxel(e, box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
-    all_outside = all_outside && e.field.distance[v] >= band;
-    all_inside = all_inside && e.field.distance[v] <= -band;
+  forEachVoxel(box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
+    all_outside = all_outside && e.distance[v] >= band;
+    all_inside = all_inside && e.distance[v] <= -band;
   });
   if (!all_outside && !all_inside) return false;
   *out_entry = packFarEntry(all_outside ? TileKind::kFarOutside : TileKind::kFarInside);
@@ -72,7 +79,7 @@ bool tryFarTile(Encoder& e, const BrickBox& box, std::uint64_t* out_entry) {
 }
 
 Vec3f tileCentre(const Encoder& e, const std::uint32_t brick[3]) {
-  const GridGeometry& g = e.field.grid;
+  const GridGeometry& g = e.grid;
   const float half = 0.5f * float(e.size);
   return g.origin +
          Vec3f{float(brick[0] * e.size) + half, float(brick[1] * e.size) + half, float(brick[2] * e.size) + half} *
@@ -81,10 +88,10 @@ Vec3f tileCentre(const Encoder& e, const std::uint32_t brick[3]) {
 
 // Plane tile when the (quantized) mean normal and a least-squares offset reproduce every voxel.
 bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3], std::uint64_t* out_entry) {
-  const GridGeometry& g = e.field.grid;
+  const GridGeometry& g = e.grid;
   Vec3f normal_sum;
-  forEachVoxel(e, box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
-    if (inBand(e, v)) normal_sum = normal_sum + normalizeOrZero(e.field.normal[v]);
+  forEachVoxel(box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
+    if (inBand(e, v)) normal_sum = normal_sum + normalizeOrZero(e.normal[v]);
   });
   if (dot(normal_sum, normal_sum) == 0.0f) return false;
   std::uint32_t qu = 0, qv = 0;
@@ -94,22 +101,22 @@ bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3],
 
   double offset_sum = 0.0;
   std::size_t band_count = 0;
-  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     if (!inBand(e, v)) return;
-    offset_sum += double(e.field.distance[v]) - double(dot(n, g.voxelCentre(i, j, k) - c));
+    offset_sum += double(e.distance[v]) - double(dot(n, g.voxelCentre(i, j, k) - c));
     ++band_count;
   });
   const float d_c = float(offset_sum / double(band_count));
 
   bool fits = true;
-  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     const float predicted = d_c + dot(n, g.voxelCentre(i, j, k) - c);
-    const float error = std::fabs(clampToBand(predicted, g.band) - clampToBand(e.field.distance[v], g.band));
-    const bool normal_ok = !inBand(e, v) || dot(n, normalizeOrZero(e.field.normal[v])) >= e.min_cosine;
+    const float error = std::fabs(clampToBand(predicted, g.band) - clampToBand(e.distance[v], g.band));
+    const bool normal_ok = !inBand(e, v) || dot(n, normalizeOrZero(e.normal[v])) >= e.min_cosine;
     fits = fits && error <= e.tolerance_local && normal_ok;
   });
   if (!fits) return false;
-  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     if (inBand(e, v)) measure(e, v, d_c + dot(n, g.voxelCentre(i, j, k) - c), n);
   });
   *out_entry = packPlaneEntry(qu, qv, d_c);
@@ -118,11 +125,11 @@ bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3],
 
 // Quantized brick: the range [lo, hi] is rounded outwards to 16 bits, then each voxel to 10 bits.
 std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
-  const float band = e.field.grid.band;
+  const float band = e.grid.band;
   float lo = band, hi = -band;
-  forEachVoxel(e, box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
-    lo = std::min(lo, clampToBand(e.field.distance[v], band));
-    hi = std::max(hi, clampToBand(e.field.distance[v], band));
+  forEachVoxel(box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
+    lo = std::min(lo, clampToBand(e.distance[v], band));
+    hi = std::max(hi, clampToBand(e.distance[v], band));
   });
   const float to_q16 = float(kRangeMax) / (2.0f * band);
   const auto lo16 = std::uint32_t(std::clamp(std::floor((lo + band) * to_q16), 0.0f, float(kRangeMax)));
@@ -135,12 +142,12 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   const std::uint32_t pool_index = std::uint32_t(base >> (3 * e.log2));
   e.pool.resize(base + (std::size_t(1) << (3 * e.log2)), 0u);
   const std::uint32_t mask = e.size - 1;
-  forEachVoxel(e, box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
-    const float d = clampToBand(e.field.distance[v], band);
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    const float d = clampToBand(e.distance[v], band);
     const float code = d >= hi_value ? float(kWordDistanceMax) : step > 0.0f ? std::round((d - lo_value) / step) : 0.0f;
     const auto qd = std::uint32_t(std::clamp(code, 0.0f, float(kWordDistanceMax)));
     std::uint32_t qu = 0, qv = 0;
-    octEncode(e.field.normal[v], kWordOctBits, &qu, &qv);
+    octEncode(e.normal[v], kWordOctBits, &qu, &qv);
     const std::uint32_t word = packWord(qu, qv, qd);
     const std::size_t local = ((k & mask) << (2 * e.log2)) | ((j & mask) << e.log2) | (i & mask);
     e.pool[base + local] = word;
@@ -149,22 +156,38 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   return packBrickEntry(pool_index, lo16, hi16);
 }
 
-void encodeTile(Encoder& e, const std::uint32_t brick[3]) {
+// Encodes one brick (reading it unless the source hints it is far); false, with *error set, when a
+// voxel is not finite.
+bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
   BrickBox box;
+  VoxelBox read;
   for (int a = 0; a < 3; ++a) {
-    box.lo[a] = brick[a] * e.size;
-    box.hi[a] = std::min(box.lo[a] + e.size, e.field.grid.dims[a]);
+    box.lo[a] = read.lo[a] = brick[a] * e.size;
+    box.hi[a] = read.hi[a] = std::min(box.lo[a] + e.size, e.grid.dims[a]);
   }
   std::uint64_t entry = 0;
-  if (tryFarTile(e, box, &entry)) {
-    ++(entryKind(entry) == TileKind::kFarOutside ? e.stats.far_outside_tiles : e.stats.far_inside_tiles);
-  } else if (tryPlaneTile(e, box, brick, &entry)) {
-    ++e.stats.plane_tiles;
+  const FarHint hint = e.source.farHint(read);
+  if (hint != FarHint::kUnknown) {
+    entry = packFarEntry(hint == FarHint::kFarOutside ? TileKind::kFarOutside : TileKind::kFarInside);
   } else {
-    entry = writeBrick(e, box);
-    ++e.stats.brick_tiles;
+    e.source.read(read, e.distance.data(), e.normal.data());
+    if (!(*error = checkVoxels(read, e.distance.data(), e.normal.data())).empty()) return false;
+    for (std::size_t v = 0; v < read.count(); ++v)
+      e.stats.band_voxels += inBand(e, v) ? 1 : 0;
+    if (!tryFarTile(e, box, &entry)) {
+      if (tryPlaneTile(e, box, brick, &entry)) {
+        ++e.stats.plane_tiles;
+      } else {
+        entry = writeBrick(e, box);
+        ++e.stats.brick_tiles;
+      }
+    }
   }
+  const TileKind kind = entryKind(entry);
+  if (kind == TileKind::kFarOutside) ++e.stats.far_outside_tiles;
+  if (kind == TileKind::kFarInside) ++e.stats.far_inside_tiles;
   e.top.push_back(entry);
+  return true;
 }
 
 std::string checkOptions(const BrickOptions& o) {
@@ -178,25 +201,30 @@ std::string checkOptions(const BrickOptions& o) {
 
 } // namespace
 
-EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options, std::string_view metadata_json) {
+EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& options, std::string_view metadata_json) {
   EncodeResult result;
-  result.error = checkField(field);
+  const GridGeometry& g = source.grid();
+  result.error = checkGeometry(g);
   if (result.ok()) result.error = checkOptions(options);
   if (!result.ok()) return result;
 
   const std::uint32_t log2 = options.brick_size == 4 ? 2 : options.brick_size == 8 ? 3 : 4;
-  Encoder e{field,
+  const std::size_t brick_voxels = std::size_t(1) << (3 * log2);
+  Encoder e{source,
+            g,
             log2,
             options.brick_size,
-            options.tolerance_distance * field.grid.voxel_size,
+            options.tolerance_distance * g.voxel_size,
             std::cos(options.tolerance_normal_deg / kDegrees),
             {},
             {},
-            {}};
-  GridSection grid = makeGridSection(field.grid, Encoding::kBricked);
+            {},
+            std::vector<float>(brick_voxels),
+            std::vector<Vec3f>(brick_voxels)};
+  GridSection grid = makeGridSection(g, Encoding::kBricked);
   grid.brick_log2 = log2;
   for (int a = 0; a < 3; ++a)
-    grid.brick_dims[a] = (field.grid.dims[a] + e.size - 1) >> log2;
+    grid.brick_dims[a] = (g.dims[a] + e.size - 1) >> log2;
   grid.tolerance_distance = options.tolerance_distance;
   grid.tolerance_normal_deg = options.tolerance_normal_deg;
 
@@ -204,13 +232,11 @@ EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options,
   for (brick[2] = 0; brick[2] < grid.brick_dims[2]; ++brick[2])
     for (brick[1] = 0; brick[1] < grid.brick_dims[1]; ++brick[1])
       for (brick[0] = 0; brick[0] < grid.brick_dims[0]; ++brick[0])
-        encodeTile(e, brick);
+        if (!encodeTile(e, brick, &result.error)) return result;
   if (e.stats.brick_tiles >= kMaxPoolBricks) {
     result.error = "too many bricks for one file (the pool index has 30 bits)";
     return result;
   }
-  for (float d : field.distance)
-    e.stats.band_voxels += std::fabs(d) < field.grid.band ? 1 : 0;
 
   ContainerBuilder builder;
   addCommonSections(builder, grid, metadata_json);
@@ -220,6 +246,12 @@ EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options,
   result.stats.payload_bytes = e.top.size() * sizeof(std::uint64_t) + e.pool.size() * sizeof(std::uint32_t);
   result.bytes = builder.finish();
   return result;
+}
+
+EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options, std::string_view metadata_json) {
+  EncodeResult result;
+  result.error = checkField(field);
+  return result.ok() ? encodeBricked(DenseSource(field), options, metadata_json) : result;
 }
 
 } // namespace format

@@ -7,8 +7,7 @@
 namespace dng {
 namespace format {
 
-std::string checkField(const DenseField& field) {
-  const GridGeometry& g = field.grid;
+std::string checkGeometry(const GridGeometry& g) {
   if (!isLittleEndianHost()) return "this host is big-endian; .dng files are little-endian only";
   if (!std::isfinite(g.origin.x) || !std::isfinite(g.origin.y) || !std::isfinite(g.origin.z))
     return "grid origin is not finite";
@@ -17,21 +16,38 @@ std::string checkField(const DenseField& field) {
   for (std::uint32_t d : g.dims) {
     if (d == 0) return "every grid dimension must be at least 1";
   }
-  const float limit = 1e18f; // readers refuse larger magnitudes (docs/FORMAT.md, V12)
-  if (std::fabs(g.origin.x) > limit || std::fabs(g.origin.y) > limit || std::fabs(g.origin.z) > limit ||
-      g.voxel_size > limit || g.voxel_size < 1.0f / limit || g.band > limit)
+  if (std::fabs(g.origin.x) > kMagnitudeLimit || std::fabs(g.origin.y) > kMagnitudeLimit ||
+      std::fabs(g.origin.z) > kMagnitudeLimit || g.voxel_size > kMagnitudeLimit ||
+      g.voxel_size < 1.0f / kMagnitudeLimit || g.band > kMagnitudeLimit)
     return "grid origin, voxel size or band is outside [1e-18, 1e18]";
   for (std::uint32_t d : g.dims) {
     if (d > (1u << 24)) return "a grid dimension exceeds 2^24 voxels";
   }
-  if (field.distance.size() != g.voxelCount() || field.normal.size() != g.voxelCount())
-    return "distance and normal arrays must hold one entry per voxel";
-  for (std::size_t v = 0; v < field.distance.size(); ++v) {
-    const Vec3f n = field.normal[v];
-    if (!(std::fabs(field.distance[v]) <= limit) || !std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
-      return "voxel " + std::to_string(v) + " holds a non-finite distance or normal";
+  return {};
+}
+
+std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f* normal) {
+  for (std::size_t v = 0; v < box.count(); ++v) {
+    const Vec3f n = normal[v];
+    if (!(std::fabs(distance[v]) <= kMagnitudeLimit) || !std::isfinite(n.x) || !std::isfinite(n.y) ||
+        !std::isfinite(n.z)) {
+      const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
+      return "voxel (" + std::to_string(box.lo[0] + v % nx) + ", " + std::to_string(box.lo[1] + v / nx % ny) + ", " +
+             std::to_string(box.lo[2] + v / (nx * ny)) + ") holds a non-finite distance or normal";
+    }
   }
   return {};
+}
+
+std::string checkField(const DenseField& field) {
+  std::string error = checkGeometry(field.grid);
+  if (!error.empty()) return error;
+  if (field.distance.size() != field.grid.voxelCount() || field.normal.size() != field.grid.voxelCount())
+    return "distance and normal arrays must hold one entry per voxel";
+  VoxelBox all;
+  for (int a = 0; a < 3; ++a)
+    all.hi[a] = field.grid.dims[a];
+  return checkVoxels(all, field.distance.data(), field.normal.data());
 }
 
 GridSection makeGridSection(const GridGeometry& g, Encoding encoding) {
@@ -52,23 +68,41 @@ void addCommonSections(ContainerBuilder& builder, const GridSection& grid, std::
   if (!metadata_json.empty()) builder.addSection(kTagMetadata, 0, metadata_json.data(), metadata_json.size());
 }
 
-EncodeResult encodeDense(const DenseField& field, std::string_view metadata_json) {
+EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json) {
   EncodeResult result;
-  result.error = checkField(field);
+  const GridGeometry& g = source.grid();
+  result.error = checkGeometry(g);
   if (!result.ok()) return result;
 
-  std::vector<DenseVoxel> voxels(field.distance.size());
-  for (std::size_t v = 0; v < voxels.size(); ++v) {
-    const Vec3f n = normalizeOrZero(field.normal[v]); // readers rely on unit-or-zero normals
-    voxels[v] = {field.distance[v], {n.x, n.y, n.z}};
-    if (std::fabs(field.distance[v]) < field.grid.band) ++result.stats.band_voxels;
+  std::vector<DenseVoxel> voxels(g.voxelCount());
+  VoxelBox slice;
+  slice.hi[0] = g.dims[0];
+  slice.hi[1] = g.dims[1];
+  std::vector<float> distance(slice.hi[0] * std::size_t(slice.hi[1]));
+  std::vector<Vec3f> normal(distance.size());
+  for (std::uint32_t k = 0; k < g.dims[2]; ++k) {
+    slice.lo[2] = k;
+    slice.hi[2] = k + 1;
+    source.read(slice, distance.data(), normal.data());
+    if (!(result.error = checkVoxels(slice, distance.data(), normal.data())).empty()) return result;
+    for (std::size_t v = 0; v < distance.size(); ++v) {
+      const Vec3f n = normalizeOrZero(normal[v]); // readers rely on unit-or-zero normals
+      voxels[k * distance.size() + v] = {distance[v], {n.x, n.y, n.z}};
+      if (std::fabs(distance[v]) < g.band) ++result.stats.band_voxels;
+    }
   }
   ContainerBuilder builder;
-  addCommonSections(builder, makeGridSection(field.grid, Encoding::kDense), metadata_json);
+  addCommonSections(builder, makeGridSection(g, Encoding::kDense), metadata_json);
   builder.addSection(kTagDense, kSectionRequired, voxels.data(), voxels.size() * sizeof(DenseVoxel));
   result.stats.payload_bytes = voxels.size() * sizeof(DenseVoxel);
   result.bytes = builder.finish();
   return result;
+}
+
+EncodeResult encodeDense(const DenseField& field, std::string_view metadata_json) {
+  EncodeResult result;
+  result.error = checkField(field);
+  return result.ok() ? encodeDense(DenseSource(field), metadata_json) : result;
 }
 
 } // namespace format

@@ -3,10 +3,17 @@
 
 #include "dng/format/writer.h"
 
+#include <string>
 #include <string_view>
 
 namespace dng {
 namespace format {
+
+/// Readers refuse larger magnitudes (docs/FORMAT.md, V12).
+constexpr float kMagnitudeLimit = 1e18f;
+
+/// Empty when every voxel of a read box is finite and within kMagnitudeLimit, else which one is not.
+std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f* normal);
 
 /// GRID section for `g` with the encoding-independent fields filled and the bricked ones zero.
 GridSection makeGridSection(const GridGeometry& g, Encoding encoding);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "dng/format/dense_field.h"
+#include "dng/format/field_source.h"
 #include "dng/format/layout.h"
 
 #include <cstdint>
@@ -76,14 +77,23 @@ struct EncodeResult {
   bool ok() const { return error.empty(); }
 };
 
-/// Empty when `field` can be written, otherwise why not (sizes, non-finite values, limits).
+/// Empty when `grid` can be written, otherwise why not (non-finite or out-of-range placement, zero
+/// or oversized dimensions, a big-endian host).
+std::string checkGeometry(const GridGeometry& grid);
+
+/// Empty when `field` can be written, otherwise why not: checkGeometry, array sizes, non-finite values.
 std::string checkField(const DenseField& field);
 
 /// Dense encoding: every voxel's distance and normal as float32. `metadata_json` (UTF-8 JSON, may be
-/// empty) goes into an optional META section when not empty.
+/// empty) goes into an optional META section when not empty. Reads the source one z slice at a time;
+/// a non-finite voxel fails the encode.
+[[nodiscard]] EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json);
 [[nodiscard]] EncodeResult encodeDense(const DenseField& field, std::string_view metadata_json);
 
-/// Bricked encoding, the paper's compressed plane grid (§3.2). See docs/FORMAT.md.
+/// Bricked encoding, the paper's compressed plane grid (§3.2). See docs/FORMAT.md. Reads the source
+/// one brick at a time and skips the reads of bricks the source hints are far.
+[[nodiscard]] EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& options,
+                                         std::string_view metadata_json);
 [[nodiscard]] EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options,
                                          std::string_view metadata_json);
 

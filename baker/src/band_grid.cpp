@@ -1,0 +1,111 @@
+// BandGrid on OpenVDB: allocation, the band's topology and far signs, and reads for the encoders.
+#include "band_grid_vdb.h"
+
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <cmath>
+
+namespace dng {
+namespace baker {
+
+static_assert(sizeof(openvdb::Vec3s) == 3 * sizeof(float), "normals are exposed as three floats per voxel");
+static_assert(openvdb::FloatTree::LeafNodeType::DIM == VoxelBlock::kDim, "blocks are OpenVDB leaves");
+
+openvdb::math::Transform::Ptr vdbTransform(const format::GridGeometry& g) {
+  auto transform = openvdb::math::Transform::createLinearTransform(double(g.voxel_size));
+  const double half = 0.5 * double(g.voxel_size);
+  transform->postTranslate(openvdb::Vec3d(g.origin.x + half, g.origin.y + half, g.origin.z + half));
+  return transform;
+}
+
+BandGrid::BandGrid(const format::GridGeometry& grid) : grid_(grid), impl_(std::make_unique<Impl>()) {
+  openvdb::initialize(); // registers the grid types; idempotent
+  impl_->distance = openvdb::FloatGrid::create(grid.band);
+  impl_->distance->setName("distance");
+  impl_->distance->setGridClass(openvdb::GRID_LEVEL_SET);
+  impl_->distance->setTransform(vdbTransform(grid));
+  impl_->normal = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+  impl_->normal->setName("normal");
+  impl_->normal->setTransform(vdbTransform(grid));
+}
+
+BandGrid::~BandGrid() = default;
+
+void BandGrid::addBlocks(const std::vector<BlockKey>& keys) {
+  for (const BlockKey& key : keys) {
+    const openvdb::Coord at(key[0] * VoxelBlock::kDim, key[1] * VoxelBlock::kDim, key[2] * VoxelBlock::kDim);
+    impl_->distance->tree().touchLeaf(at);
+    impl_->normal->tree().touchLeaf(at);
+  }
+}
+
+std::vector<VoxelBlock> BandGrid::blocks() {
+  std::vector<VoxelBlock> out;
+  out.reserve(impl_->distance->tree().leafCount());
+  for (auto leaf = impl_->distance->tree().beginLeaf(); leaf; ++leaf) {
+    auto* normal_leaf = impl_->normal->tree().probeLeaf(leaf->origin());
+    VoxelBlock block;
+    block.origin = {leaf->origin().x(), leaf->origin().y(), leaf->origin().z()};
+    block.distance = leaf->buffer().data();
+    block.normal = normal_leaf->buffer().data()->asPointer();
+    out.push_back(block);
+  }
+  return out;
+}
+
+void BandGrid::finishBand() {
+  const float band = grid_.band;
+  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(impl_->distance->tree());
+  openvdb::Vec3STree& normal_tree = impl_->normal->tree();
+  leaves.foreach ([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
+    auto* normal_leaf = normal_tree.probeLeaf(leaf.origin());
+    for (openvdb::Index n = 0; n < openvdb::FloatTree::LeafNodeType::SIZE; ++n) {
+      const bool in_band = std::fabs(leaf.getValue(n)) < band;
+      leaf.setActiveState(n, in_band);
+      normal_leaf->setActiveState(n, in_band);
+    }
+  });
+  openvdb::tools::pruneInactive(impl_->distance->tree());
+  openvdb::tools::pruneInactive(impl_->normal->tree());
+  openvdb::tools::signedFloodFill(impl_->distance->tree());
+}
+
+std::uint64_t BandGrid::bandVoxels() const { return impl_->distance->tree().activeVoxelCount(); }
+
+std::uint64_t BandGrid::blockCount() const { return impl_->distance->tree().leafCount(); }
+
+void BandGrid::read(const format::VoxelBox& box, float* distance, Vec3f* normal) const {
+  const auto distances = impl_->distance->getConstAccessor();
+  const auto normals = impl_->normal->getConstAccessor();
+  for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
+    for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
+      for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i) {
+        const openvdb::Coord at{int(i), int(j), int(k)};
+        *distance++ = distances.getValue(at);
+        const openvdb::Vec3s n = normals.getValue(at);
+        *normal++ = {n.x(), n.y(), n.z()};
+      }
+}
+
+format::FarHint BandGrid::farHint(const format::VoxelBox& box) const {
+  const openvdb::FloatTree& tree = impl_->distance->tree();
+  const int dim = VoxelBlock::kDim;
+  bool inside = false, outside = false;
+  // A block-sized cell without a leaf holds one tile value throughout.
+  for (int z = int(box.lo[2]) / dim; z <= int(box.hi[2] - 1) / dim; ++z)
+    for (int y = int(box.lo[1]) / dim; y <= int(box.hi[1] - 1) / dim; ++y)
+      for (int x = int(box.lo[0]) / dim; x <= int(box.hi[0] - 1) / dim; ++x) {
+        const openvdb::Coord cell(x * dim, y * dim, z * dim);
+        if (tree.probeConstLeaf(cell) != nullptr) return format::FarHint::kUnknown;
+        const float value = tree.getValue(cell);
+        if (std::fabs(value) < grid_.band) return format::FarHint::kUnknown;
+        (value < 0.0f ? inside : outside) = true;
+      }
+  if (inside == outside) return format::FarHint::kUnknown;
+  return inside ? format::FarHint::kFarInside : format::FarHint::kFarOutside;
+}
+
+} // namespace baker
+} // namespace dng

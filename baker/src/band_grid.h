@@ -1,0 +1,83 @@
+// The baker's working store (DESIGN.md §4): the band of a DN field as sparse OpenVDB grids, a float
+// grid of signed distances and a Vec3s grid of normals sharing one topology of 8^3 leaves. Only the
+// blocks near the surface exist, so memory follows the surface area, not the grid's volume.
+//
+// This header is free of OpenVDB: stages fill blocks through plain arrays (VoxelBlock), and the
+// encoders read the band through format::FieldSource. The few translation units that need the
+// grids themselves include band_grid_vdb.h (OpenVDB headers cost ~25 s and >1 GB per unit to compile).
+#pragma once
+
+#include "dng/format/field_source.h"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace dng {
+namespace baker {
+
+/// One 8^3 leaf of the band as plain arrays. Voxel (x, y, z) of the block (each 0..7) is voxel
+/// origin + (x, y, z) of the grid and sits at offset(x, y, z) (OpenVDB's leaf order: z fastest).
+struct VoxelBlock {
+  static constexpr int kDim = 8;
+  static constexpr int kVoxels = kDim * kDim * kDim;
+  static constexpr int offset(int x, int y, int z) { return (x << 6) | (y << 3) | z; }
+
+  std::array<std::int32_t, 3> origin{}; ///< multiples of kDim
+  float* distance = nullptr;            ///< kVoxels signed distances
+  float* normal = nullptr;              ///< 3 * kVoxels floats: x, y, z per voxel
+
+  void setNormal(int n, Vec3f v) const {
+    normal[3 * n] = v.x;
+    normal[3 * n + 1] = v.y;
+    normal[3 * n + 2] = v.z;
+  }
+};
+
+/// Block coordinates: voxel index / VoxelBlock::kDim on each axis.
+using BlockKey = std::array<std::int32_t, 3>;
+
+/// The band of a DN field over `grid`. Voxels nobody wrote read as far outside (+band) with a zero
+/// normal. Not thread-safe, except that blocks() may be filled from many threads, one block each.
+class BandGrid final : public format::FieldSource {
+public:
+  explicit BandGrid(const format::GridGeometry& grid);
+  ~BandGrid() override;
+  BandGrid(const BandGrid&) = delete;
+  BandGrid& operator=(const BandGrid&) = delete;
+
+  const format::GridGeometry& grid() const override { return grid_; }
+
+  /// Allocates the blocks at `keys` (duplicates allowed), every voxel far outside.
+  void addBlocks(const std::vector<BlockKey>& keys);
+
+  /// Every allocated block, in a fixed order. The pointers stay valid until addBlocks or finishBand.
+  std::vector<VoxelBlock> blocks();
+
+  /// Call once the distances are in: voxels with |distance| < band become the band (OpenVDB's active
+  /// voxels), blocks without any are dropped, and every other voxel and tile takes the sign of its
+  /// side by OpenVDB's signedFloodFill (exact when the band is closed and at least a voxel thick).
+  void finishBand();
+
+  /// Voxels with |distance| < band (after finishBand).
+  std::uint64_t bandVoxels() const;
+  /// Blocks allocated now.
+  std::uint64_t blockCount() const;
+
+  void read(const format::VoxelBox& box, float* distance, Vec3f* normal) const override;
+  /// Far when no block overlaps the box and every tile it covers lies on one side.
+  format::FarHint farHint(const format::VoxelBox& box) const override;
+
+  /// The OpenVDB grids, for the translation units that include band_grid_vdb.h.
+  struct Impl;
+  Impl& impl() { return *impl_; }
+  const Impl& impl() const { return *impl_; }
+
+private:
+  format::GridGeometry grid_;
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace baker
+} // namespace dng

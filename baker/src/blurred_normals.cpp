@@ -1,0 +1,149 @@
+// The blur of the paper's §3.1 on sparse OpenVDB grids, and what each method makes of it.
+//
+// The kernel is the separable tent t(i) = 1 - |i| / (R + 1), |i| <= R, applied along x, y and z: a
+// linear attenuation at 3 (2R + 1) taps per voxel instead of (2R + 1)^3. A round moves values at
+// most R voxels along each axis, so after K rounds nothing lies further than R K voxels (max norm)
+// from a surface voxel: blurring on the surface voxels dilated by R K gives exactly what blurring
+// the whole grid would, at the cost of the surface's neighbourhood only.
+#include "baker.h"
+#include "band_grid_vdb.h"
+
+#include <openvdb/tools/Morphology.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <cmath>
+#include <utility>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+using openvdb::Coord;
+
+openvdb::Vec3s toVdb(Vec3f v) { return {v.x, v.y, v.z}; }
+Vec3f fromVdb(const openvdb::Vec3s& v) { return {v.x(), v.y(), v.z()}; }
+
+// Accessors without registration in the tree: each lives within one task, on a grid nobody edits meanwhile.
+template <class GridT> using Reader = openvdb::tree::ValueAccessor<const typename GridT::TreeType, false>;
+
+// The surface voxels with their start values; they are the grid's active voxels.
+template <class GridT, class ValueFn>
+typename GridT::Ptr surfaceGrid(const std::vector<SurfaceVoxel>& surface, ValueFn value) {
+  auto grid = GridT::create(openvdb::zeroVal<typename GridT::ValueType>());
+  auto access = grid->getAccessor();
+  for (const SurfaceVoxel& s : surface)
+    access.setValue(Coord(s.ijk[0], s.ijk[1], s.ijk[2]), value(s));
+  return grid;
+}
+
+// One pass of the tent kernel along `axis` from `in` into `out` (same topology). Normalized by the
+// weights of the taps inside the grid: a blur must not grow values (the surface voxels, reset each
+// round, must stay the potential's maximum).
+template <class GridT>
+void blurAxis(const GridT& in, int axis, std::uint32_t radius, const openvdb::CoordBBox& bounds, GridT* out) {
+  using ValueT = typename GridT::ValueType;
+  openvdb::tree::LeafManager<typename GridT::TreeType> leaves(out->tree());
+  leaves.foreach ([&](typename GridT::TreeType::LeafNodeType& leaf, std::size_t) {
+    Reader<GridT> source(in.tree());
+    for (auto voxel = leaf.beginValueOn(); voxel; ++voxel) {
+      ValueT sum = openvdb::zeroVal<ValueT>();
+      float weights = 0.0f;
+      for (int o = -int(radius); o <= int(radius); ++o) {
+        Coord tap = voxel.getCoord();
+        tap[axis] += o;
+        if (!bounds.isInside(tap)) continue;
+        const float w = 1.0f - float(std::abs(o)) / float(radius + 1);
+        sum = sum + source.getValue(tap) * w;
+        weights += w;
+      }
+      voxel.setValue(sum * (1.0f / weights));
+    }
+  });
+}
+
+// K rounds of the three passes, the surface voxels put back to their start values after each round
+// (the paper: "after each iteration the surface voxels are returned to their initial values").
+template <class GridT>
+typename GridT::Ptr blurRounds(const GridT& surface, const format::GridGeometry& g, std::uint32_t radius,
+                               std::uint32_t rounds) {
+  const openvdb::CoordBBox bounds = vdbBounds(g);
+  typename GridT::Ptr current = surface.deepCopy();
+  if (radius * rounds > 0)
+    openvdb::tools::dilateActiveValues(current->tree(), int(radius * rounds), openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                       openvdb::tools::EXPAND_TILES);
+  current->tree().clip(bounds);
+  // Dilation prunes leaves that are all active and all zero into active tiles, which LeafManager does
+  // not visit: make every active value a voxel again so each one is blurred.
+  current->tree().voxelizeActiveTiles();
+  typename GridT::Ptr next = current->deepCopy();
+  for (std::uint32_t round = 0; round < rounds; ++round) {
+    blurAxis(*current, 0, radius, bounds, next.get());
+    blurAxis(*next, 1, radius, bounds, current.get());
+    blurAxis(*current, 2, radius, bounds, next.get());
+    std::swap(current, next);
+    auto access = current->getAccessor();
+    for (auto voxel = surface.cbeginValueOn(); voxel; ++voxel)
+      access.setValueOnly(voxel.getCoord(), *voxel);
+  }
+  return current;
+}
+
+// Calls visit(coordinate, distance, normal&) for every band voxel, leaves in parallel. `make_state`
+// gives each leaf task its own state (an accessor), passed to visit as the first argument.
+template <class MakeState, class Visit> void forEachBandVoxel(BandGrid* band, MakeState make_state, Visit visit) {
+  openvdb::Vec3STree& normals = band->impl().normal->tree();
+  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(band->impl().distance->tree());
+  leaves.foreach ([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
+    auto state = make_state();
+    openvdb::Vec3STree::LeafNodeType* normal_leaf = normals.probeLeaf(leaf.origin());
+    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
+      openvdb::Vec3s n = normal_leaf->getValue(voxel.pos());
+      visit(state, voxel.getCoord(), *voxel, n);
+      normal_leaf->setValueOnly(voxel.pos(), n);
+    }
+  });
+}
+
+} // namespace
+
+void blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds, BandGrid* io) {
+  const auto start = surfaceGrid<openvdb::Vec3SGrid>(surface, [](const SurfaceVoxel& s) { return toVdb(s.normal); });
+  const openvdb::Vec3SGrid::Ptr blurred = blurRounds(*start, io->grid(), radius, rounds);
+  forEachBandVoxel(
+      io, [&] { return Reader<openvdb::Vec3SGrid>(blurred->tree()); },
+      [](Reader<openvdb::Vec3SGrid>& field, const Coord& at, float, openvdb::Vec3s& normal) {
+        const Vec3f n = normalizeOrZero(fromVdb(field.getValue(at)));
+        if (dot(n, n) > 0.0f) normal = toVdb(n); // beyond the blur's reach the exact normal stays
+      });
+}
+
+void potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
+                      BandGrid* io) {
+  const auto start = surfaceGrid<openvdb::FloatGrid>(surface, [](const SurfaceVoxel&) { return 1.0f; });
+  const openvdb::FloatGrid::Ptr potential = blurRounds(*start, io->grid(), radius, rounds);
+  forEachBandVoxel(
+      io, [&] { return Reader<openvdb::FloatGrid>(potential->tree()); },
+      [](Reader<openvdb::FloatGrid>& p, const Coord& at, float distance, openvdb::Vec3s& normal) {
+        auto step = [&](int axis) {
+          Coord down = at, up = at;
+          --down[axis];
+          ++up[axis];
+          return p.getValue(down) - p.getValue(up);
+        };
+        const Vec3f downhill{step(0), step(1), step(2)};
+        // Where the potential is flat (a sheet's own voxels, or beyond the blur) keep the exact normal
+        // rather than normalizing rounding noise.
+        if (!(length(downhill) > 1e-4f)) return;
+        const Vec3f n = normalizeOrZero(downhill);
+        // Down the potential is away from the surface outside, deeper inside a solid: orient it into
+        // the exact normal's hemisphere (reliable in the band even in voxels the surface cuts), else
+        // by the side of the surface.
+        const Vec3f exact = fromVdb(normal);
+        const bool flip = dot(exact, exact) > 0.0f ? dot(n, exact) < 0.0f : distance < 0.0f;
+        normal = toVdb(flip ? n * -1.0f : n);
+      });
+}
+
+} // namespace baker
+} // namespace dng

@@ -1,0 +1,65 @@
+// Where the encoders read voxels from. A dense array is one source; the baker's sparse OpenVDB band
+// is another, which never holds every voxel of a large grid at once. Encoders ask for one box of
+// voxels at a time (a brick, or a slab of rows), so neither side has to know the other's layout.
+#pragma once
+
+#include "dng/format/dense_field.h"
+
+#include <cstdint>
+
+namespace dng {
+namespace format {
+
+/// Voxels [lo, hi) on every axis, inside the grid.
+struct VoxelBox {
+  std::uint32_t lo[3] = {0, 0, 0};
+  std::uint32_t hi[3] = {0, 0, 0}; ///< exclusive
+  std::size_t count() const { return std::size_t(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]); }
+};
+
+/// What a source knows about a box without reading it.
+enum class FarHint {
+  kUnknown,    ///< read the voxels to find out
+  kFarOutside, ///< every voxel is at distance >= band
+  kFarInside,  ///< every voxel is at distance <= -band
+};
+
+/// A DN field the encoders can read box by box. Implementations must return the same values for the
+/// same box every time (the output is a pure function of them). Reads are const but need not be
+/// thread-safe: the encoders read from one thread.
+class FieldSource {
+public:
+  virtual ~FieldSource() = default;
+  virtual const GridGeometry& grid() const = 0;
+  /// Writes box.count() distances and normals, x fastest, then y, then z. Normals of far voxels
+  /// may be zero.
+  virtual void read(const VoxelBox& box, float* distance, Vec3f* normal) const = 0;
+  /// A shortcut for empty space: kUnknown unless the source knows the whole box is far on one side.
+  /// A source may always answer kUnknown; a wrong answer other than kUnknown is a bug.
+  virtual FarHint farHint(const VoxelBox& box) const {
+    (void)box;
+    return FarHint::kUnknown;
+  }
+};
+
+/// A DenseField seen as a source. The field must outlive the adapter.
+class DenseSource final : public FieldSource {
+public:
+  explicit DenseSource(const DenseField& field) : field_(field) {}
+  const GridGeometry& grid() const override { return field_.grid; }
+  void read(const VoxelBox& box, float* distance, Vec3f* normal) const override {
+    for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
+      for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
+        for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i) {
+          const std::size_t v = field_.grid.index(i, j, k);
+          *distance++ = field_.distance[v];
+          *normal++ = field_.normal[v];
+        }
+  }
+
+private:
+  const DenseField& field_;
+};
+
+} // namespace format
+} // namespace dng
