@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -219,6 +220,42 @@ TEST_F(BakeTest, SameBytesWhateverTheThreadCount) {
     outputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
   EXPECT_EQ(outputs[0], outputs[1]);
+}
+
+// Progress comes during the long stages, not only at their ends, and returning false stops the bake
+// there with nothing written.
+TEST_F(BakeTest, ProgressReportsWithinStagesAndCancelStopsTheBake) {
+  testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 32, 16), path("sphere.obj"));
+  struct Recorder {
+    std::vector<std::pair<std::string, double>> calls;
+    std::string cancel_in; // stage to cancel in, once past a third of it
+    static bool record(void* self, const char* stage, double fraction) {
+      auto* r = static_cast<Recorder*>(self);
+      r->calls.emplace_back(stage, fraction);
+      return !(r->cancel_in == stage && fraction > 0.3);
+    }
+    int count(const std::string& stage) const {
+      return int(std::count_if(calls.begin(), calls.end(), [&](const auto& c) { return c.first == stage; }));
+    }
+  };
+  BakeOptions options = exactOptions();
+  options.mode = NormalMode::kNormalBlur;
+  options.threads = 1; // every distance block reports
+  Recorder full;
+  BakeReport report;
+  ASSERT_TRUE(bake(path("sphere.obj"), {path("full.dng"), {}}, options, &Recorder::record, &full, &report).ok());
+  EXPECT_GT(full.count("distance"), 10);
+  EXPECT_GE(full.count("normals"), int(3 * options.blur_rounds)); // after every blur pass
+  for (const char* stage : {"distance", "normals"}) {
+    SCOPED_TRACE(stage);
+    Recorder cancelling;
+    cancelling.cancel_in = stage;
+    const BakeStatus status =
+        bake(path("sphere.obj"), {path("cut.dng"), {}}, options, &Recorder::record, &cancelling, &report);
+    EXPECT_EQ(status.message, "cancelled");
+    EXPECT_LT(cancelling.count(stage), full.count(stage));
+    EXPECT_FALSE(fs::exists(path("cut.dng")));
+  }
 }
 
 TEST_F(BakeTest, BandFromMaxSpeedCoversTheTravelPerStep) {

@@ -115,7 +115,7 @@ BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const Bake
   status = computeDistanceField(soup, use_pseudonormals ? &pseudonormals : nullptr, progress, user, &band);
   if (!status.ok()) return status;
   timer.done("distance");
-  if (!(status = applyNormalMode(soup, options, &band)).ok()) return status;
+  if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return cancelled();
 

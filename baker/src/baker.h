@@ -191,7 +191,8 @@ BakeStatus computeDistanceField(const TriangleSoup& soup, const PseudonormalSign
 
 /// Replaces the band's normals by the paper's method 1 (normal-blur) or 2 (potential gradient);
 /// exact mode keeps them. Surface voxels are those any triangle overlaps (exact triangle/box test).
-BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, BandGrid* io);
+BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, ProgressFn progress,
+                           void* progress_user, BandGrid* io);
 
 /// A voxel the surface overlaps, with the average normal of the triangles overlapping it.
 struct SurfaceVoxel {
@@ -199,16 +200,18 @@ struct SurfaceVoxel {
   Vec3f normal;
 };
 
-/// Method 1's blur (paper §3.1): the surface normals blurred with the tent kernel of `radius` for
+/// Method 1's blur (paper §3.1): the surface normals blurred with the tent kernel of `radius` (1-8) for
 /// `rounds` rounds, surface voxels reset after each; every band voxel the blur reaches takes the
-/// normalized result, the others keep their normal.
-void blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds, BandGrid* io);
+/// normalized result, the others keep their normal. Reports stage "normals" after each pass; a false
+/// return from `progress` cancels (kInternal, "cancelled", the band half-updated).
+BakeStatus blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
+                       BandGrid* io, ProgressFn progress = nullptr, void* progress_user = nullptr);
 
 /// Method 2 (paper §3.1): occupancy 1 at surface voxels blurred the same way; band voxels take the
 /// normalized downhill gradient by central differences, oriented into the hemisphere of their exact
-/// normal, where the gradient is not flat.
-void potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
-                      BandGrid* io);
+/// normal, where the gradient is not flat. Progress and cancel as blurNormals.
+BakeStatus potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
+                            BandGrid* io, ProgressFn progress = nullptr, void* progress_user = nullptr);
 
 /// What a bake did, for the JSON report.
 struct BakeReport {

@@ -5,6 +5,7 @@
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tree/LeafManager.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace dng {
@@ -77,15 +78,36 @@ std::uint64_t BandGrid::bandVoxels() const { return impl_->distance->tree().acti
 std::uint64_t BandGrid::blockCount() const { return impl_->distance->tree().leafCount(); }
 
 void BandGrid::read(const format::VoxelBox& box, float* distance, Vec3f* normal) const {
-  const auto distances = impl_->distance->getConstAccessor();
-  const auto normals = impl_->normal->getConstAccessor();
-  for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
-    for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
-      for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i) {
-        const openvdb::Coord at{int(i), int(j), int(k)};
-        *distance++ = distances.getValue(at);
-        const openvdb::Vec3s n = normals.getValue(at);
-        *normal++ = {n.x(), n.y(), n.z()};
+  const openvdb::FloatTree& distances = impl_->distance->tree();
+  const openvdb::Vec3STree& normals = impl_->normal->tree();
+  const int dim = VoxelBlock::kDim;
+  const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
+  // Leaf by leaf from the raw buffers (an accessor walks the tree and checks delayed loading per
+  // voxel); cells without a leaf hold one tile value.
+  for (int z = int(box.lo[2]) / dim; z <= int(box.hi[2] - 1) / dim; ++z)
+    for (int y = int(box.lo[1]) / dim; y <= int(box.hi[1] - 1) / dim; ++y)
+      for (int x = int(box.lo[0]) / dim; x <= int(box.hi[0] - 1) / dim; ++x) {
+        const openvdb::Coord cell(x * dim, y * dim, z * dim);
+        const auto* d_leaf = distances.probeConstLeaf(cell);
+        const auto* n_leaf = normals.probeConstLeaf(cell);
+        const float* d_values = d_leaf != nullptr ? d_leaf->buffer().data() : nullptr;
+        const openvdb::Vec3s* n_values = n_leaf != nullptr ? n_leaf->buffer().data() : nullptr;
+        const float d_tile = d_leaf != nullptr ? 0.0f : distances.getValue(cell);
+        const openvdb::Vec3s n_tile = n_leaf != nullptr ? openvdb::Vec3s(0.0f) : normals.getValue(cell);
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::max(int(box.lo[a]), cell[a]);
+          hi[a] = std::min(int(box.hi[a]), cell[a] + dim);
+        }
+        for (int k = lo[2]; k < hi[2]; ++k)
+          for (int j = lo[1]; j < hi[1]; ++j)
+            for (int i = lo[0]; i < hi[0]; ++i) {
+              const std::size_t out = ((k - box.lo[2]) * ny + (j - box.lo[1])) * nx + (i - box.lo[0]);
+              const int in = VoxelBlock::offset(i - cell[0], j - cell[1], k - cell[2]);
+              distance[out] = d_values != nullptr ? d_values[in] : d_tile;
+              const openvdb::Vec3s n = n_values != nullptr ? n_values[in] : n_tile;
+              normal[out] = {n.x(), n.y(), n.z()};
+            }
       }
 }
 

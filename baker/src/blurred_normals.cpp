@@ -39,34 +39,63 @@ typename GridT::Ptr surfaceGrid(const std::vector<SurfaceVoxel>& surface, ValueF
 
 // One pass of the tent kernel along `axis` from `in` into `out` (same topology). Normalized by the
 // weights of the taps inside the grid: a blur must not grow values (the surface voxels, reset each
-// round, must stay the potential's maximum).
+// round, must stay the potential's maximum). Taps are read straight from the leaf and its two
+// neighbours along the axis (R <= 8 stays within them); a missing neighbour is an inactive tile of 0.
 template <class GridT>
 void blurAxis(const GridT& in, int axis, std::uint32_t radius, const openvdb::CoordBBox& bounds, GridT* out) {
   using ValueT = typename GridT::ValueType;
+  using LeafT = typename GridT::TreeType::LeafNodeType;
+  const int dim = int(LeafT::DIM);
+  const int stride = axis == 0 ? dim * dim : axis == 1 ? dim : 1; // OpenVDB's leaf order: z fastest
   openvdb::tree::LeafManager<typename GridT::TreeType> leaves(out->tree());
-  leaves.foreach ([&](typename GridT::TreeType::LeafNodeType& leaf, std::size_t) {
-    Reader<GridT> source(in.tree());
-    for (auto voxel = leaf.beginValueOn(); voxel; ++voxel) {
+  leaves.foreach ([&](LeafT& leaf, std::size_t) {
+    Coord step(0);
+    step[axis] = dim;
+    const LeafT* neighbours[3] = {in.tree().probeConstLeaf(leaf.origin() - step),
+                                  in.tree().probeConstLeaf(leaf.origin()),
+                                  in.tree().probeConstLeaf(leaf.origin() + step)};
+    // Raw buffers: LeafNode::getValue checks for delayed loading on every call.
+    const ValueT* line[3];
+    for (int n = 0; n < 3; ++n)
+      line[n] = neighbours[n] != nullptr ? neighbours[n]->buffer().data() : nullptr;
+    ValueT* target = leaf.buffer().data();
+    const int first = leaf.origin()[axis], low = bounds.min()[axis], high = bounds.max()[axis];
+    for (int v = 0; v < int(LeafT::SIZE); ++v) {
+      if (!leaf.isValueMaskOn(openvdb::Index(v))) continue;
+      const int at = v / stride % dim, base = v - at * stride;
       ValueT sum = openvdb::zeroVal<ValueT>();
       float weights = 0.0f;
       for (int o = -int(radius); o <= int(radius); ++o) {
-        Coord tap = voxel.getCoord();
-        tap[axis] += o;
-        if (!bounds.isInside(tap)) continue;
+        if (first + at + o < low || first + at + o > high) continue;
+        const int q = at + o + dim; // 0..3 dim - 1 across the three leaves
         const float w = 1.0f - float(std::abs(o)) / float(radius + 1);
-        sum = sum + source.getValue(tap) * w;
+        if (line[q / dim] != nullptr) sum = sum + line[q / dim][base + (q % dim) * stride] * w;
         weights += w;
       }
-      voxel.setValue(sum * (1.0f / weights));
+      target[v] = sum * (1.0f / weights);
     }
   });
 }
 
+// Reports stage "normals" as passes complete; false once the caller asked to cancel.
+class PassProgress {
+public:
+  PassProgress(ProgressFn fn, void* user, std::uint32_t passes) : fn_(fn), user_(user), passes_(passes + 1) {}
+  bool passDone() { return fn_ == nullptr || fn_(user_, "normals", double(++done_) / double(passes_)); }
+
+private:
+  ProgressFn fn_;
+  void* user_;
+  std::uint32_t passes_; // the blur's passes plus the final one over the band
+  std::uint32_t done_ = 0;
+};
+
 // K rounds of the three passes, the surface voxels put back to their start values after each round
 // (the paper: "after each iteration the surface voxels are returned to their initial values").
+// Null when cancelled.
 template <class GridT>
 typename GridT::Ptr blurRounds(const GridT& surface, const format::GridGeometry& g, std::uint32_t radius,
-                               std::uint32_t rounds) {
+                               std::uint32_t rounds, PassProgress& progress) {
   const openvdb::CoordBBox bounds = vdbBounds(g);
   typename GridT::Ptr current = surface.deepCopy();
   if (radius * rounds > 0)
@@ -78,16 +107,19 @@ typename GridT::Ptr blurRounds(const GridT& surface, const format::GridGeometry&
   current->tree().voxelizeActiveTiles();
   typename GridT::Ptr next = current->deepCopy();
   for (std::uint32_t round = 0; round < rounds; ++round) {
-    blurAxis(*current, 0, radius, bounds, next.get());
-    blurAxis(*next, 1, radius, bounds, current.get());
-    blurAxis(*current, 2, radius, bounds, next.get());
-    std::swap(current, next);
+    for (int axis = 0; axis < 3; ++axis) {
+      blurAxis(*current, axis, radius, bounds, next.get());
+      std::swap(current, next);
+      if (!progress.passDone()) return nullptr;
+    }
     auto access = current->getAccessor();
     for (auto voxel = surface.cbeginValueOn(); voxel; ++voxel)
       access.setValueOnly(voxel.getCoord(), *voxel);
   }
   return current;
 }
+
+BakeStatus cancelled() { return BakeStatus::failure(ExitCode::kInternal, "cancelled"); }
 
 // Calls visit(coordinate, distance, normal&) for every band voxel, leaves in parallel. `make_state`
 // gives each leaf task its own state (an accessor), passed to visit as the first argument.
@@ -107,21 +139,27 @@ template <class MakeState, class Visit> void forEachBandVoxel(BandGrid* band, Ma
 
 } // namespace
 
-void blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds, BandGrid* io) {
+BakeStatus blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
+                       BandGrid* io, ProgressFn progress, void* progress_user) {
+  PassProgress passes(progress, progress_user, 3 * rounds);
   const auto start = surfaceGrid<openvdb::Vec3SGrid>(surface, [](const SurfaceVoxel& s) { return toVdb(s.normal); });
-  const openvdb::Vec3SGrid::Ptr blurred = blurRounds(*start, io->grid(), radius, rounds);
+  const openvdb::Vec3SGrid::Ptr blurred = blurRounds(*start, io->grid(), radius, rounds, passes);
+  if (blurred == nullptr) return cancelled();
   forEachBandVoxel(
       io, [&] { return Reader<openvdb::Vec3SGrid>(blurred->tree()); },
       [](Reader<openvdb::Vec3SGrid>& field, const Coord& at, float, openvdb::Vec3s& normal) {
         const Vec3f n = normalizeOrZero(fromVdb(field.getValue(at)));
         if (dot(n, n) > 0.0f) normal = toVdb(n); // beyond the blur's reach the exact normal stays
       });
+  return passes.passDone() ? BakeStatus::success() : cancelled();
 }
 
-void potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
-                      BandGrid* io) {
+BakeStatus potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
+                            BandGrid* io, ProgressFn progress, void* progress_user) {
+  PassProgress passes(progress, progress_user, 3 * rounds);
   const auto start = surfaceGrid<openvdb::FloatGrid>(surface, [](const SurfaceVoxel&) { return 1.0f; });
-  const openvdb::FloatGrid::Ptr potential = blurRounds(*start, io->grid(), radius, rounds);
+  const openvdb::FloatGrid::Ptr potential = blurRounds(*start, io->grid(), radius, rounds, passes);
+  if (potential == nullptr) return cancelled();
   forEachBandVoxel(
       io, [&] { return Reader<openvdb::FloatGrid>(potential->tree()); },
       [](Reader<openvdb::FloatGrid>& p, const Coord& at, float distance, openvdb::Vec3s& normal) {
@@ -143,6 +181,7 @@ void potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t ra
         const bool flip = dot(exact, exact) > 0.0f ? dot(n, exact) < 0.0f : distance < 0.0f;
         normal = toVdb(flip ? n * -1.0f : n);
       });
+  return passes.passDone() ? BakeStatus::success() : cancelled();
 }
 
 } // namespace baker

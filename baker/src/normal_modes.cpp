@@ -75,14 +75,15 @@ const char* normalModeName(NormalMode mode) {
   return "?";
 }
 
-BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, BandGrid* io) {
+BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, ProgressFn progress,
+                           void* progress_user, BandGrid* io) {
   if (options.mode != NormalMode::kExact && (options.blur_radius < 1 || options.blur_radius > 8))
     return BakeStatus::failure(ExitCode::kUsage, "--blur-radius must be between 1 and 8 (the paper uses 2-4)");
   if (options.mode == NormalMode::kExact) return BakeStatus::success();
   const std::vector<SurfaceVoxel> surface = rasterize(soup, io->grid());
-  if (options.mode == NormalMode::kNormalBlur) blurNormals(surface, options.blur_radius, options.blur_rounds, io);
-  if (options.mode == NormalMode::kPotential) potentialNormals(surface, options.blur_radius, options.blur_rounds, io);
-  return BakeStatus::success();
+  return options.mode == NormalMode::kNormalBlur
+             ? blurNormals(surface, options.blur_radius, options.blur_rounds, io, progress, progress_user)
+             : potentialNormals(surface, options.blur_radius, options.blur_rounds, io, progress, progress_user);
 }
 
 } // namespace baker
