@@ -327,6 +327,23 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
 }
 
+// Memory running out inside OpenVDB, TBB or Embree is an error with its exit code, not an abort, and
+// the previous output survives. The address-space limit would break the sanitizers' own mappings.
+TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "an address-space limit and a sanitizer runtime do not mix";
+#endif
+  testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("big.obj"));
+  std::ofstream(path("kept.dng")) << "previous contents";
+  // A box at 2000 voxels needs gigabytes of band; 600 MB of address space is enough to start.
+  const ProgramRun run = testing::runProgram("ulimit -v 600000; " + std::string(DNG_DNGBAKE_PATH) + " " +
+                                             path("big.obj") + " --resolution 2000 -o " + path("kept.dng") + " 2>&1");
+  EXPECT_EQ(run.exit_code, 4) << run.output;
+  EXPECT_NE(run.output.find("out of memory"), std::string::npos) << run.output;
+  std::ifstream in(path("kept.dng"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), "previous contents");
+}
+
 TEST_F(BakeTest, ProgramReportsJsonAndVersion) {
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("box.obj"));
   const ProgramRun run = runDngbake(path("box.obj") + " -o " + path("box.dng") + " --resolution 32 --json");

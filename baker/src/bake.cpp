@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <new>
 
 namespace dng {
 namespace baker {
@@ -74,10 +75,8 @@ bool reportStage(ProgressFn progress, void* user, const char* stage) {
 
 BakeStatus cancelled() { return BakeStatus::failure(ExitCode::kInternal, "cancelled"); }
 
-} // namespace
-
-BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
-                void* user, BakeReport* report) {
+BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options,
+                      ProgressFn progress, void* user, BakeReport* report) {
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
@@ -136,6 +135,22 @@ BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const Bake
   report->output_bytes = encoded.bytes.size();
   timer.done("write");
   return BakeStatus::success();
+}
+
+} // namespace
+
+// Nothing is written before the last stage, so an exception (memory running out in the band's grids,
+// an OpenVDB or TBB error) leaves no output behind; it only has to become a status instead of an abort.
+BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
+                void* user, BakeReport* report) {
+  try {
+    return bakeStages(input, outputs, options, progress, user, report);
+  } catch (const std::bad_alloc&) {
+    return BakeStatus::failure(ExitCode::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
+                                                    "--resolution or a thinner --band");
+  } catch (const std::exception& e) {
+    return BakeStatus::failure(ExitCode::kInternal, std::string("internal error: ") + e.what());
+  }
 }
 
 } // namespace baker
