@@ -246,7 +246,8 @@ TEST_F(BakeTest, ProgressReportsWithinStagesAndCancelStopsTheBake) {
   ASSERT_TRUE(bake(path("sphere.obj"), {path("full.dng"), {}}, options, &Recorder::record, &full, &report).ok());
   EXPECT_GT(full.count("distance"), 10);
   EXPECT_GE(full.count("normals"), int(3 * options.blur_rounds)); // after every blur pass
-  for (const char* stage : {"distance", "normals"}) {
+  EXPECT_GT(full.count("encode"), 3);                             // after every layer of bricks
+  for (const char* stage : {"distance", "normals", "encode"}) {
     SCOPED_TRACE(stage);
     Recorder cancelling;
     cancelling.cancel_in = stage;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <thread>
 
@@ -256,6 +257,39 @@ TEST(Writer, BrickedIsMuchSmallerThanDenseOnASphere) {
   EXPECT_EQ(bricked.stats.far_outside_tiles + bricked.stats.far_inside_tiles + bricked.stats.plane_tiles +
                 bricked.stats.brick_tiles,
             tiles);
+}
+
+TEST(Writer, ReportsProgressAndStopsWhenAsked) {
+  const DenseField field =
+      analytic::sampleField(analytic::cubeGrid({0, 0, 0}, 1.0f, 32, 2.0f), analytic::sphereField({16, 16, 16}, 8));
+  struct Log {
+    std::vector<double> fractions;
+    double stop_after = 2.0; // never
+    static bool report(void* self, double f) {
+      auto* log = static_cast<Log*>(self);
+      log->fractions.push_back(f);
+      return f <= log->stop_after;
+    }
+  };
+  for (bool bricked : {false, true}) {
+    SCOPED_TRACE(bricked ? "bricked" : "dense");
+    auto encode = [&](Log* log) {
+      const format::EncodeProgress progress{&Log::report, log};
+      return bricked ? format::encodeBricked(format::DenseSource(field), {}, "", progress)
+                     : format::encodeDense(format::DenseSource(field), "", progress);
+    };
+    Log all;
+    ASSERT_TRUE(encode(&all).ok());
+    ASSERT_EQ(all.fractions.size(), bricked ? 4u : 32u); // per layer of 8^3 bricks, per z slice
+    EXPECT_TRUE(std::is_sorted(all.fractions.begin(), all.fractions.end()));
+    EXPECT_EQ(all.fractions.back(), 1.0);
+    Log halfway;
+    halfway.stop_after = 0.5;
+    const EncodeResult stopped = encode(&halfway);
+    EXPECT_EQ(stopped.error, "cancelled");
+    EXPECT_TRUE(stopped.bytes.empty());
+    EXPECT_LT(halfway.fractions.size(), all.fractions.size());
+  }
 }
 
 TEST(Writer, RefusesFieldsItCannotWrite) {

@@ -73,6 +73,17 @@ bool reportStage(ProgressFn progress, void* user, const char* stage) {
   return progress == nullptr || progress(user, stage, 1.0);
 }
 
+// A baker progress callback seen as the writer's, for one stage.
+struct StageProgress {
+  ProgressFn progress;
+  void* user;
+  const char* stage;
+  static bool report(void* self, double fraction) {
+    const auto* p = static_cast<const StageProgress*>(self);
+    return p->progress == nullptr || p->progress(p->user, p->stage, fraction);
+  }
+};
+
 BakeStatus cancelled() { return BakeStatus::failure(ExitCode::kInternal, "cancelled"); }
 
 BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options,
@@ -119,13 +130,15 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   if (!reportStage(progress, user, "normals")) return cancelled();
 
   const std::string meta = metadataJson(options, report->grid, report->source_hash, report->sign);
+  StageProgress encode_progress{progress, user, "encode"};
+  const format::EncodeProgress encode_reports{&StageProgress::report, &encode_progress};
   format::EncodeResult encoded = options.encoding == format::Encoding::kDense
-                                     ? format::encodeDense(band, meta)
-                                     : format::encodeBricked(band, options.brick, meta);
+                                     ? format::encodeDense(band, meta, encode_reports)
+                                     : format::encodeBricked(band, options.brick, meta, encode_reports);
+  if (encoded.error == "cancelled") return cancelled();
   if (!encoded.ok()) return BakeStatus::failure(ExitCode::kInternal, "encoding failed: " + encoded.error);
   report->encode = encoded.stats;
   timer.done("encode");
-  if (!reportStage(progress, user, "encode")) return cancelled();
 
   if (!outputs.vdb.empty()) {
     if (!(status = exportVdb(band, outputs.vdb)).ok()) return status;

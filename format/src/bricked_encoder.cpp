@@ -201,7 +201,8 @@ std::string checkOptions(const BrickOptions& o) {
 
 } // namespace
 
-EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& options, std::string_view metadata_json) {
+EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& options, std::string_view metadata_json,
+                           EncodeProgress progress) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
   result.error = checkGeometry(g);
@@ -229,10 +230,15 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
   grid.tolerance_normal_deg = options.tolerance_normal_deg;
 
   std::uint32_t brick[3];
-  for (brick[2] = 0; brick[2] < grid.brick_dims[2]; ++brick[2])
+  for (brick[2] = 0; brick[2] < grid.brick_dims[2]; ++brick[2]) {
     for (brick[1] = 0; brick[1] < grid.brick_dims[1]; ++brick[1])
       for (brick[0] = 0; brick[0] < grid.brick_dims[0]; ++brick[0])
         if (!encodeTile(e, brick, &result.error)) return result;
+    if (!progress(double(brick[2] + 1) / double(grid.brick_dims[2]))) {
+      result.error = "cancelled";
+      return result;
+    }
+  }
   if (e.stats.brick_tiles >= kMaxPoolBricks) {
     result.error = "too many bricks for one file (the pool index has 30 bits)";
     return result;

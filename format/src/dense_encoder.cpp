@@ -68,7 +68,7 @@ void addCommonSections(ContainerBuilder& builder, const GridSection& grid, std::
   if (!metadata_json.empty()) builder.addSection(kTagMetadata, 0, metadata_json.data(), metadata_json.size());
 }
 
-EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json) {
+EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json, EncodeProgress progress) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
   result.error = checkGeometry(g);
@@ -89,6 +89,10 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
       const Vec3f n = normalizeOrZero(normal[v]); // readers rely on unit-or-zero normals
       voxels[k * distance.size() + v] = {distance[v], {n.x, n.y, n.z}};
       if (std::fabs(distance[v]) < g.band) ++result.stats.band_voxels;
+    }
+    if (!progress(double(k + 1) / double(g.dims[2]))) {
+      result.error = "cancelled";
+      return result;
     }
   }
   ContainerBuilder builder;

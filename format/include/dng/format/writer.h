@@ -77,6 +77,14 @@ struct EncodeResult {
   bool ok() const { return error.empty(); }
 };
 
+/// Progress of a long encode, called from the encoding thread with the fraction done in [0, 1]; a
+/// false return stops the encode with the error "cancelled". Both members null: no reports.
+struct EncodeProgress {
+  bool (*report)(void* user, double fraction) = nullptr;
+  void* user = nullptr;
+  bool operator()(double fraction) const { return report == nullptr || report(user, fraction); }
+};
+
 /// Empty when `grid` can be written, otherwise why not (non-finite or out-of-range placement, zero
 /// or oversized dimensions, a big-endian host).
 std::string checkGeometry(const GridGeometry& grid);
@@ -85,15 +93,17 @@ std::string checkGeometry(const GridGeometry& grid);
 std::string checkField(const DenseField& field);
 
 /// Dense encoding: every voxel's distance and normal as float32. `metadata_json` (UTF-8 JSON, may be
-/// empty) goes into an optional META section when not empty. Reads the source one z slice at a time;
-/// a non-finite voxel fails the encode.
-[[nodiscard]] EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json);
+/// empty) goes into an optional META section when not empty. Reads the source one z slice at a time,
+/// reporting progress after each; a non-finite voxel fails the encode.
+[[nodiscard]] EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json,
+                                       EncodeProgress progress = {});
 [[nodiscard]] EncodeResult encodeDense(const DenseField& field, std::string_view metadata_json);
 
 /// Bricked encoding, the paper's compressed plane grid (§3.2). See docs/FORMAT.md. Reads the source
-/// one brick at a time and skips the reads of bricks the source hints are far.
+/// one brick at a time, skips the reads of bricks the source hints are far, and reports progress after
+/// each z layer of bricks.
 [[nodiscard]] EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& options,
-                                         std::string_view metadata_json);
+                                         std::string_view metadata_json, EncodeProgress progress = {});
 [[nodiscard]] EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options,
                                          std::string_view metadata_json);
 
