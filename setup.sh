@@ -22,7 +22,7 @@ WERROR="${DNG_WERROR:-OFF}"
 PACKAGES_BUILD=(cmake ninja-build g++ pkg-config clang-format bc)
 PACKAGES_TEST=(libgtest-dev libgmock-dev libbenchmark-dev libxxhash-dev)
 PACKAGES_BAKER=(libopenmesh-dev libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev libcli11-dev
-                libtbb-dev libpng-dev nlohmann-json3-dev)
+                libtbb-dev libpng-dev nlohmann-json3-dev libxxhash-dev)
 
 log() { printf 'setup.sh: %s\n' "$*" >&2; }
 

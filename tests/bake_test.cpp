@@ -2,6 +2,7 @@
 // independent brute-force reference; bad input through the real dngbake program.
 #include "baker.h"
 #include "dng/file.h"
+#include "dng/format/xxhash64.h"
 #include "test_meshes.h"
 
 #include "run_program.h"
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -257,6 +259,25 @@ TEST_F(BakeTest, ProgressReportsWithinStagesAndCancelStopsTheBake) {
     EXPECT_LT(cancelling.count(stage), full.count(stage));
     EXPECT_FALSE(fs::exists(path("cut.dng")));
   }
+}
+
+// The source hash is read in 1 MB chunks: a mesh file of several MB checks the chunks join up.
+TEST_F(BakeTest, SourceHashIsTheXxh64OfTheWholeInputFile) {
+  testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 300, 150), path("fine.obj"));
+  std::ifstream in(path("fine.obj"), std::ios::binary);
+  const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  ASSERT_GT(bytes.size(), std::size_t(2) << 20);
+  char expected[17];
+  std::snprintf(expected, sizeof expected, "%016llx", (unsigned long long)format::xxhash64(bytes.data(), bytes.size()));
+  BakeOptions options = exactOptions();
+  options.resolution = 16;
+  options.band_voxels = 2.0f;
+  BakeReport report;
+  ASSERT_TRUE(bake(path("fine.obj"), {path("fine.dng"), {}}, options, nullptr, nullptr, &report).ok());
+  EXPECT_EQ(report.source_hash, expected);
+  File file;
+  ASSERT_EQ(File::open(path("fine.dng").c_str(), &file), Status::kOk);
+  EXPECT_NE(std::string(file.view().metadata()).find(expected), std::string::npos);
 }
 
 TEST_F(BakeTest, BandFromMaxSpeedCoversTheTravelPerStep) {

@@ -1,15 +1,13 @@
 // The whole bake (DESIGN.md §4): load, check, place, distance and sign, normals, encode, write.
 #include "baker.h"
 
-#include "dng/format/xxhash64.h"
-
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <xxhash.h>
 
 #include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <iterator>
 #include <memory>
 #include <new>
 
@@ -22,13 +20,25 @@ using Clock = std::chrono::steady_clock;
 
 const char* encodingName(format::Encoding e) { return e == format::Encoding::kDense ? "dense" : "bricked"; }
 
-// XXH64 of the input file, hex: recorded so a pipeline can tell which source a .dng came from.
-std::string hashFile(const std::string& path) {
+// XXH64 of the input file, hex: recorded so a pipeline can tell which source a .dng came from. Read
+// in chunks through libxxhash's streaming API, so a large mesh is not held in memory a second time.
+// The digest equals format::xxhash64 of the whole file (tests/hash_test.cpp compares the two).
+BakeStatus hashFile(const std::string& path, std::string* out_hex) {
   std::ifstream in(path, std::ios::binary);
-  const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::unique_ptr<XXH64_state_t, decltype(&XXH64_freeState)> state(XXH64_createState(), &XXH64_freeState);
+  if (!in || state == nullptr || XXH64_reset(state.get(), 0) != XXH_OK)
+    return BakeStatus::failure(ExitCode::kIo, "cannot read '" + path + "' to hash it");
+  std::vector<char> chunk(1 << 20);
+  while (in) {
+    in.read(chunk.data(), std::streamsize(chunk.size()));
+    if (XXH64_update(state.get(), chunk.data(), std::size_t(in.gcount())) != XXH_OK)
+      return BakeStatus::failure(ExitCode::kInternal, "hashing '" + path + "' failed");
+  }
+  if (!in.eof()) return BakeStatus::failure(ExitCode::kIo, "cannot read '" + path + "' to hash it");
   char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)format::xxhash64(bytes.data(), bytes.size()));
-  return hex;
+  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)XXH64_digest(state.get()));
+  *out_hex = hex;
+  return BakeStatus::success();
 }
 
 // The META section: the tool, the mode, every parameter and the source, as UTF-8 JSON. No clock and
@@ -100,7 +110,7 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   if (soup.faces_with_bad_index > 0)
     report->warnings.push_back(std::to_string(soup.faces_with_bad_index) +
                                " faces referred to missing vertices and were skipped");
-  report->source_hash = hashFile(input);
+  if (!(status = hashFile(input, &report->source_hash)).ok()) return status;
   timer.done("load");
   if (!reportStage(progress, user, "load")) return cancelled();
 
