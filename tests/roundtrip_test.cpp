@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <thread>
+#include <vector>
 
 namespace dng {
 namespace {
@@ -274,9 +276,10 @@ TEST(Writer, ReportsProgressAndStopsWhenAsked) {
   for (bool bricked : {false, true}) {
     SCOPED_TRACE(bricked ? "bricked" : "dense");
     auto encode = [&](Log* log) {
-      const format::EncodeProgress progress{&Log::report, log};
-      return bricked ? format::encodeBricked(format::DenseSource(field), {}, "", progress)
-                     : format::encodeDense(format::DenseSource(field), "", progress);
+      format::EncodeHooks hooks;
+      hooks.progress = {&Log::report, log};
+      return bricked ? format::encodeBricked(format::DenseSource(field), {}, "", hooks)
+                     : format::encodeDense(format::DenseSource(field), "", hooks);
     };
     Log all;
     ASSERT_TRUE(encode(&all).ok());
@@ -290,6 +293,36 @@ TEST(Writer, ReportsProgressAndStopsWhenAsked) {
     EXPECT_TRUE(stopped.bytes.empty());
     EXPECT_LT(halfway.fractions.size(), all.fractions.size());
   }
+}
+
+// Pieces run on several threads, in an order of their own, join into the same bytes.
+TEST(Writer, ParallelPiecesGiveTheSameBytes) {
+  const DenseField field =
+      analytic::sampleField(analytic::cubeGrid({0, 0, 0}, 1.0f, 40, 3.0f), analytic::sphereField({20, 19, 21}, 11));
+  format::EncodeHooks threaded;
+  threaded.parallel_for = [](std::size_t count, const std::function<void(std::size_t)>& task) {
+    std::vector<std::thread> workers;
+    for (std::size_t w = 0; w < 3; ++w)
+      workers.emplace_back([&, w] {
+        for (std::size_t i = count; i-- > 0;) // last piece first
+          if (i % 3 == w) task(i);
+      });
+    for (std::thread& worker : workers)
+      worker.join();
+  };
+  for (std::uint32_t size : {4u, 8u, 16u}) {
+    BrickOptions options;
+    options.brick_size = size;
+    const EncodeResult serial = format::encodeBricked(format::DenseSource(field), options, "{}");
+    const EncodeResult parallel = format::encodeBricked(format::DenseSource(field), options, "{}", threaded);
+    ASSERT_TRUE(serial.ok() && parallel.ok());
+    EXPECT_EQ(serial.bytes, parallel.bytes) << size;
+    EXPECT_EQ(serial.stats.brick_tiles, parallel.stats.brick_tiles);
+    EXPECT_EQ(serial.stats.max_normal_error_deg, parallel.stats.max_normal_error_deg);
+    EXPECT_GT(serial.stats.brick_tiles, 1u); // several layers hold bricks: the pool indices were moved
+  }
+  EXPECT_EQ(format::encodeDense(format::DenseSource(field), "").bytes,
+            format::encodeDense(format::DenseSource(field), "", threaded).bytes);
 }
 
 TEST(Writer, RefusesFieldsItCannotWrite) {

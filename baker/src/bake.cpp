@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <xxhash.h>
 
 #include <chrono>
@@ -141,10 +142,14 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
 
   const std::string meta = metadataJson(options, report->grid, report->source_hash, report->sign);
   StageProgress encode_progress{progress, user, "encode"};
-  const format::EncodeProgress encode_reports{&StageProgress::report, &encode_progress};
+  format::EncodeHooks hooks;
+  hooks.progress = {&StageProgress::report, &encode_progress};
+  hooks.parallel_for = [](std::size_t count, const std::function<void(std::size_t)>& task) {
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) { task(i); });
+  };
   format::EncodeResult encoded = options.encoding == format::Encoding::kDense
-                                     ? format::encodeDense(band, meta, encode_reports)
-                                     : format::encodeBricked(band, options.brick, meta, encode_reports);
+                                     ? format::encodeDense(band, meta, hooks)
+                                     : format::encodeBricked(band, options.brick, meta, hooks);
   if (encoded.error == "cancelled") return cancelled();
   if (!encoded.ok()) return BakeStatus::failure(ExitCode::kInternal, "encoding failed: " + encoded.error);
   report->encode = encoded.stats;

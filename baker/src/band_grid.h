@@ -39,7 +39,8 @@ struct VoxelBlock {
 using BlockKey = std::array<std::int32_t, 3>;
 
 /// The band of a DN field over `grid`. Voxels nobody wrote read as far outside (+band) with a zero
-/// normal. Not thread-safe, except that blocks() may be filled from many threads, one block each.
+/// normal. Not thread-safe, except that blocks() may be filled from many threads, one block each, and
+/// that read() and farHint() may run on many threads at once while nothing changes the grid.
 class BandGrid final : public format::FieldSource {
 public:
   explicit BandGrid(const format::GridGeometry& grid);

@@ -6,8 +6,8 @@
 //      equation");
 //   3. a brick of 32-bit words in the pool (octahedral normal + brick-affine 10-bit distance).
 // Bricks are read from the source one at a time into a small buffer, so a sparse source never has to
-// expand into a dense grid. Single-threaded and free of unordered containers, so the output depends
-// only on the input.
+// expand into a dense grid. Each z layer of bricks is encoded on its own (in parallel when the caller
+// brings threads) and the layers are joined in order, so the output depends only on the input.
 #include "dng/format/codec.h"
 #include "dng/format/writer.h"
 #include "grid_section.h"
@@ -199,10 +199,71 @@ std::string checkOptions(const BrickOptions& o) {
   return {};
 }
 
+Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std::uint32_t log2) {
+  const std::size_t brick_voxels = std::size_t(1) << (3 * log2);
+  return Encoder{source,
+                 source.grid(),
+                 log2,
+                 options.brick_size,
+                 options.tolerance_distance * source.grid().voxel_size,
+                 std::cos(options.tolerance_normal_deg / kDegrees),
+                 {},
+                 {},
+                 {},
+                 std::vector<float>(brick_voxels),
+                 std::vector<Vec3f>(brick_voxels)};
+}
+
+// What one z layer of bricks encoded to; pool indices in `top` count from the layer's first brick.
+struct Layer {
+  std::vector<std::uint64_t> top;
+  std::vector<std::uint32_t> pool;
+  EncodeStats stats;
+  std::string error;
+};
+
+void addStats(const EncodeStats& layer, EncodeStats* total) {
+  total->far_outside_tiles += layer.far_outside_tiles;
+  total->far_inside_tiles += layer.far_inside_tiles;
+  total->plane_tiles += layer.plane_tiles;
+  total->brick_tiles += layer.brick_tiles;
+  total->band_voxels += layer.band_voxels;
+  total->max_distance_error_voxels = std::max(total->max_distance_error_voxels, layer.max_distance_error_voxels);
+  total->max_normal_error_deg = std::max(total->max_normal_error_deg, layer.max_normal_error_deg);
+}
+
+// Concatenates the layers in z order, moving each layer's pool indices past the bricks before it.
+EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std::string_view metadata_json) {
+  EncodeResult result;
+  std::vector<std::uint64_t> top;
+  std::vector<std::uint32_t> pool;
+  for (Layer& layer : layers) {
+    addStats(layer.stats, &result.stats);
+    if (result.stats.brick_tiles >= kMaxPoolBricks) {
+      result.error = "too many bricks for one file (the pool index has 30 bits)";
+      return result;
+    }
+    const auto first_brick = std::uint32_t(pool.size() >> (3 * grid.brick_log2));
+    for (std::uint64_t entry : layer.top)
+      top.push_back(entryKind(entry) != TileKind::kBrick
+                        ? entry
+                        : packBrickEntry(entryPoolIndex(entry) + first_brick, entryLo16(entry), entryHi16(entry)));
+    pool.insert(pool.end(), layer.pool.begin(), layer.pool.end());
+    layer = Layer{}; // give the memory back as we go
+  }
+  ContainerBuilder builder;
+  addCommonSections(builder, grid, metadata_json);
+  builder.addSection(kTagBrickTop, kSectionRequired, top.data(), top.size() * sizeof(std::uint64_t));
+  builder.addSection(kTagBrickPool, kSectionRequired, pool.data(), pool.size() * sizeof(std::uint32_t));
+  result.stats.payload_bytes = top.size() * sizeof(std::uint64_t) + pool.size() * sizeof(std::uint32_t);
+  result.bytes = builder.finish();
+  return result;
+}
+
 } // namespace
 
 EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& options, std::string_view metadata_json,
-                           EncodeProgress progress) {
+                           const EncodeHooks& hooks) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
   result.error = checkGeometry(g);
@@ -210,48 +271,31 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
   if (!result.ok()) return result;
 
   const std::uint32_t log2 = options.brick_size == 4 ? 2 : options.brick_size == 8 ? 3 : 4;
-  const std::size_t brick_voxels = std::size_t(1) << (3 * log2);
-  Encoder e{source,
-            g,
-            log2,
-            options.brick_size,
-            options.tolerance_distance * g.voxel_size,
-            std::cos(options.tolerance_normal_deg / kDegrees),
-            {},
-            {},
-            {},
-            std::vector<float>(brick_voxels),
-            std::vector<Vec3f>(brick_voxels)};
   GridSection grid = makeGridSection(g, Encoding::kBricked);
   grid.brick_log2 = log2;
   for (int a = 0; a < 3; ++a)
-    grid.brick_dims[a] = (g.dims[a] + e.size - 1) >> log2;
+    grid.brick_dims[a] = (g.dims[a] + options.brick_size - 1) >> log2;
   grid.tolerance_distance = options.tolerance_distance;
   grid.tolerance_normal_deg = options.tolerance_normal_deg;
 
-  std::uint32_t brick[3];
-  for (brick[2] = 0; brick[2] < grid.brick_dims[2]; ++brick[2]) {
+  // One piece per z layer of bricks, each with its own pool (indices from 0), joined in order below.
+  std::vector<Layer> layers(grid.brick_dims[2]);
+  const bool finished = runPieces(hooks, layers.size(), [&](std::size_t z) {
+    Encoder e = makeEncoder(source, options, log2);
+    std::uint32_t brick[3] = {0, 0, std::uint32_t(z)};
     for (brick[1] = 0; brick[1] < grid.brick_dims[1]; ++brick[1])
       for (brick[0] = 0; brick[0] < grid.brick_dims[0]; ++brick[0])
-        if (!encodeTile(e, brick, &result.error)) return result;
-    if (!progress(double(brick[2] + 1) / double(grid.brick_dims[2]))) {
-      result.error = "cancelled";
-      return result;
-    }
+        if (!encodeTile(e, brick, &layers[z].error)) return;
+    layers[z].top = std::move(e.top);
+    layers[z].pool = std::move(e.pool);
+    layers[z].stats = e.stats;
+  });
+  if (!finished) result.error = "cancelled";
+  for (const Layer& layer : layers) {
+    if (result.ok() && !layer.error.empty()) result.error = layer.error; // the first bad layer, whatever the threads
   }
-  if (e.stats.brick_tiles >= kMaxPoolBricks) {
-    result.error = "too many bricks for one file (the pool index has 30 bits)";
-    return result;
-  }
-
-  ContainerBuilder builder;
-  addCommonSections(builder, grid, metadata_json);
-  builder.addSection(kTagBrickTop, kSectionRequired, e.top.data(), e.top.size() * sizeof(std::uint64_t));
-  builder.addSection(kTagBrickPool, kSectionRequired, e.pool.data(), e.pool.size() * sizeof(std::uint32_t));
-  result.stats = e.stats;
-  result.stats.payload_bytes = e.top.size() * sizeof(std::uint64_t) + e.pool.size() * sizeof(std::uint32_t);
-  result.bytes = builder.finish();
-  return result;
+  if (!result.ok()) return result;
+  return joinLayers(grid, std::move(layers), metadata_json);
 }
 
 EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options, std::string_view metadata_json) {

@@ -2,7 +2,9 @@
 #include "dng/format/writer.h"
 #include "grid_section.h"
 
+#include <atomic>
 #include <cmath>
+#include <mutex>
 
 namespace dng {
 namespace format {
@@ -50,6 +52,25 @@ std::string checkField(const DenseField& field) {
   return checkVoxels(all, field.distance.data(), field.normal.data());
 }
 
+bool runPieces(const EncodeHooks& hooks, std::size_t count, const std::function<void(std::size_t)>& piece) {
+  std::mutex reporting;
+  std::size_t done = 0;
+  std::atomic<bool> stop{false};
+  const std::function<void(std::size_t)> task = [&](std::size_t i) {
+    if (stop.load()) return;
+    piece(i);
+    const std::lock_guard<std::mutex> lock(reporting);
+    if (!hooks.progress(double(++done) / double(count))) stop = true;
+  };
+  if (hooks.parallel_for) {
+    hooks.parallel_for(count, task);
+  } else {
+    for (std::size_t i = 0; i < count; ++i)
+      task(i);
+  }
+  return !stop.load();
+}
+
 GridSection makeGridSection(const GridGeometry& g, Encoding encoding) {
   GridSection s{};
   s.origin[0] = g.origin.x;
@@ -68,33 +89,40 @@ void addCommonSections(ContainerBuilder& builder, const GridSection& grid, std::
   if (!metadata_json.empty()) builder.addSection(kTagMetadata, 0, metadata_json.data(), metadata_json.size());
 }
 
-EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json, EncodeProgress progress) {
+EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json, const EncodeHooks& hooks) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
   result.error = checkGeometry(g);
   if (!result.ok()) return result;
 
+  // One piece per z slice, each writing its own part of `voxels`.
+  const std::size_t per_slice = std::size_t(g.dims[0]) * g.dims[1];
   std::vector<DenseVoxel> voxels(g.voxelCount());
-  VoxelBox slice;
-  slice.hi[0] = g.dims[0];
-  slice.hi[1] = g.dims[1];
-  std::vector<float> distance(slice.hi[0] * std::size_t(slice.hi[1]));
-  std::vector<Vec3f> normal(distance.size());
-  for (std::uint32_t k = 0; k < g.dims[2]; ++k) {
-    slice.lo[2] = k;
-    slice.hi[2] = k + 1;
+  std::vector<std::uint64_t> band_voxels(g.dims[2], 0);
+  std::vector<std::string> errors(g.dims[2]);
+  const bool finished = runPieces(hooks, g.dims[2], [&](std::size_t k) {
+    VoxelBox slice;
+    slice.hi[0] = g.dims[0];
+    slice.hi[1] = g.dims[1];
+    slice.lo[2] = std::uint32_t(k);
+    slice.hi[2] = std::uint32_t(k + 1);
+    std::vector<float> distance(per_slice);
+    std::vector<Vec3f> normal(per_slice);
     source.read(slice, distance.data(), normal.data());
-    if (!(result.error = checkVoxels(slice, distance.data(), normal.data())).empty()) return result;
-    for (std::size_t v = 0; v < distance.size(); ++v) {
+    if (!(errors[k] = checkVoxels(slice, distance.data(), normal.data())).empty()) return;
+    for (std::size_t v = 0; v < per_slice; ++v) {
       const Vec3f n = normalizeOrZero(normal[v]); // readers rely on unit-or-zero normals
-      voxels[k * distance.size() + v] = {distance[v], {n.x, n.y, n.z}};
-      if (std::fabs(distance[v]) < g.band) ++result.stats.band_voxels;
+      voxels[k * per_slice + v] = {distance[v], {n.x, n.y, n.z}};
+      if (std::fabs(distance[v]) < g.band) ++band_voxels[k];
     }
-    if (!progress(double(k + 1) / double(g.dims[2]))) {
-      result.error = "cancelled";
-      return result;
-    }
+  });
+  if (!finished) result.error = "cancelled";
+  for (const std::string& error : errors) {
+    if (result.ok() && !error.empty()) result.error = error; // the first bad slice, whatever the threads
   }
+  if (!result.ok()) return result;
+  for (std::uint64_t count : band_voxels)
+    result.stats.band_voxels += count;
   ContainerBuilder builder;
   addCommonSections(builder, makeGridSection(g, Encoding::kDense), metadata_json);
   builder.addSection(kTagDense, kSectionRequired, voxels.data(), voxels.size() * sizeof(DenseVoxel));

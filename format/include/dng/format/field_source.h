@@ -25,8 +25,8 @@ enum class FarHint {
 };
 
 /// A DN field the encoders can read box by box. Implementations must return the same values for the
-/// same box every time (the output is a pure function of them). Reads are const but need not be
-/// thread-safe: the encoders read from one thread.
+/// same box every time (the output is a pure function of them). Reads must be safe from several
+/// threads at once only when the encoder is given EncodeHooks::parallel_for (writer.h).
 class FieldSource {
 public:
   virtual ~FieldSource() = default;
@@ -42,7 +42,7 @@ public:
   }
 };
 
-/// A DenseField seen as a source. The field must outlive the adapter.
+/// A DenseField seen as a source. The field must outlive the adapter. Reads are thread-safe.
 class DenseSource final : public FieldSource {
 public:
   explicit DenseSource(const DenseField& field) : field_(field) {}

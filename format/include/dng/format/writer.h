@@ -10,6 +10,7 @@
 #include "dng/format/layout.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -77,12 +78,25 @@ struct EncodeResult {
   bool ok() const { return error.empty(); }
 };
 
-/// Progress of a long encode, called from the encoding thread with the fraction done in [0, 1]; a
-/// false return stops the encode with the error "cancelled". Both members null: no reports.
+/// Progress of a long encode: the fraction done in [0, 1], one call at a time (from whichever thread
+/// finished a piece); a false return stops the encode with the error "cancelled". Null: no reports.
 struct EncodeProgress {
   bool (*report)(void* user, double fraction) = nullptr;
   void* user = nullptr;
   bool operator()(double fraction) const { return report == nullptr || report(user, fraction); }
+};
+
+/// Runs task(i) for every i in [0, count), on any threads in any order, and returns when all are done.
+/// The encoders hand it independent pieces (z layers of bricks, z slices) and join the results in
+/// order, so the bytes never depend on it. The writer itself uses no threads; callers bring their own.
+using ParallelFor = std::function<void(std::size_t count, const std::function<void(std::size_t)>& task)>;
+
+/// Optional services for the encoders.
+struct EncodeHooks {
+  EncodeProgress progress;
+  /// Empty: the pieces run in order on the calling thread. Set: the source's read() and farHint()
+  /// must be safe to call from several threads at once.
+  ParallelFor parallel_for;
 };
 
 /// Empty when `grid` can be written, otherwise why not (non-finite or out-of-range placement, zero
@@ -96,14 +110,14 @@ std::string checkField(const DenseField& field);
 /// empty) goes into an optional META section when not empty. Reads the source one z slice at a time,
 /// reporting progress after each; a non-finite voxel fails the encode.
 [[nodiscard]] EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json,
-                                       EncodeProgress progress = {});
+                                       const EncodeHooks& hooks = {});
 [[nodiscard]] EncodeResult encodeDense(const DenseField& field, std::string_view metadata_json);
 
 /// Bricked encoding, the paper's compressed plane grid (§3.2). See docs/FORMAT.md. Reads the source
 /// one brick at a time, skips the reads of bricks the source hints are far, and reports progress after
 /// each z layer of bricks.
 [[nodiscard]] EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& options,
-                                         std::string_view metadata_json, EncodeProgress progress = {});
+                                         std::string_view metadata_json, const EncodeHooks& hooks = {});
 [[nodiscard]] EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options,
                                          std::string_view metadata_json);
 
