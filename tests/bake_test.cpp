@@ -9,6 +9,7 @@
 #include "temp_dir.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -368,11 +369,22 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
 
 TEST_F(BakeTest, ProgramReportsJsonAndVersion) {
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("box.obj"));
-  const ProgramRun run = runDngbake(path("box.obj") + " -o " + path("box.dng") + " --resolution 32 --json");
+  const ProgramRun run = runDngbake(path("box.obj") + " -o " + path("box.dng") + " --resolution 96 --json");
   EXPECT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_NE(run.output.find("\"format\": \"dngbake-report\""), std::string::npos);
-  EXPECT_NE(run.output.find("\"triangles\": 12"), std::string::npos);
-  EXPECT_NE(run.output.find("\"closed\": true"), std::string::npos);
+  const nlohmann::json report = nlohmann::json::parse(run.output);
+  EXPECT_EQ(report["format"], "dngbake-report");
+  EXPECT_EQ(report["version"], 1);
+  EXPECT_EQ(report["mesh"]["triangles"], 12);
+  EXPECT_EQ(report["mesh"]["closed"], true);
+  EXPECT_GT(report["encoder"]["band_voxels"].get<std::uint64_t>(), 1000u);
+  for (const char* stage : {"load", "check", "distance", "normals", "encode", "write"})
+    EXPECT_TRUE(report["seconds"].contains(stage)) << stage;
+  // The band's leaves: some, but far fewer than the grid's 8^3 cells.
+  const auto blocks = report["working_store"]["blocks"].get<std::uint64_t>();
+  const auto dims = report["grid"]["dims"];
+  EXPECT_GT(blocks, 0u);
+  EXPECT_LT(blocks * 512u, dims[0].get<std::uint64_t>() * dims[1].get<std::uint64_t>() * dims[2].get<std::uint64_t>());
+  EXPECT_GT(report["working_store"]["peak_memory_bytes"].get<std::uint64_t>(), std::uint64_t(1) << 20);
   EXPECT_TRUE(fs::exists(path("box.dng")));
   const ProgramRun version = runDngbake("--version");
   EXPECT_EQ(version.exit_code, 0);

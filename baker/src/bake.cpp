@@ -11,6 +11,7 @@
 #include <fstream>
 #include <memory>
 #include <new>
+#include <sys/resource.h>
 
 namespace dng {
 namespace baker {
@@ -135,6 +136,7 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   BandGrid band(report->grid);
   status = computeDistanceField(soup, use_pseudonormals ? &pseudonormals : nullptr, progress, user, &band);
   if (!status.ok()) return status;
+  report->band_blocks = band.blockCount();
   timer.done("distance");
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
@@ -165,6 +167,12 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   return BakeStatus::success();
 }
 
+// Peak resident memory of the process so far (Linux reports ru_maxrss in KiB), 0 when unknown.
+std::uint64_t peakMemoryBytes() {
+  struct rusage usage {};
+  return ::getrusage(RUSAGE_SELF, &usage) == 0 ? std::uint64_t(usage.ru_maxrss) * 1024u : 0u;
+}
+
 } // namespace
 
 // Nothing is written before the last stage, so an exception (memory running out in the band's grids,
@@ -172,7 +180,9 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
 BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
                 void* user, BakeReport* report) {
   try {
-    return bakeStages(input, outputs, options, progress, user, report);
+    const BakeStatus status = bakeStages(input, outputs, options, progress, user, report);
+    report->peak_memory_bytes = peakMemoryBytes();
+    return status;
   } catch (const std::bad_alloc&) {
     return BakeStatus::failure(ExitCode::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
                                                     "--resolution or a thinner --band");

@@ -223,6 +223,8 @@ struct BakeReport {
   std::string source_hash; ///< XXH64 of the input file, hex
   std::string sign;        ///< the sign method used: "winding" or "pseudonormal"
   std::vector<std::pair<std::string, double>> stage_seconds;
+  std::uint64_t band_blocks = 0;       ///< 8^3 leaves of the working store holding band voxels
+  std::uint64_t peak_memory_bytes = 0; ///< the process's peak resident memory when the bake ended
 };
 
 /// Where the optional extra outputs go; empty means none.

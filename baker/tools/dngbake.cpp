@@ -130,6 +130,7 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                   {"max_distance_error_voxels", e.max_distance_error_voxels},
                   {"max_normal_error_degrees", e.max_normal_error_deg},
                   {"payload_bytes", e.payload_bytes}};
+  j["working_store"] = {{"blocks", r.band_blocks}, {"peak_memory_bytes", r.peak_memory_bytes}};
   j["output_bytes"] = r.output_bytes;
   nlohmann::ordered_json timings = nlohmann::ordered_json::object();
   for (const auto& [stage, seconds] : r.stage_seconds)
