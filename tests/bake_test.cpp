@@ -128,6 +128,31 @@ TEST_F(BakeTest, FarRegionsTakeTheRightSide) {
   EXPECT_EQ(file.view().sample(g.origin + Vec3f{0.5f, 0.5f, 0.5f} * g.voxel_size).status, SampleStatus::kFarOutside);
 }
 
+// A hollow ball (an outer sphere facing out, an inner one facing in): the flood fill must leave the
+// cavity outside and the shell inside, far from any band voxel, with either sign method.
+TEST_F(BakeTest, HollowBallCavityIsOutsideAndShellInside) {
+  Mesh hollow = testing::sphereMesh({0, 0, 0}, 1.0f, 48, 24);
+  const Mesh inner = testing::sphereMesh({0, 0, 0}, 0.5f, 32, 16);
+  const auto first = std::uint32_t(hollow.vertices.size());
+  hollow.vertices.insert(hollow.vertices.end(), inner.vertices.begin(), inner.vertices.end());
+  for (const auto& t : inner.triangles)
+    hollow.triangles.push_back({t[0] + first, t[2] + first, t[1] + first}); // reversed: faces the cavity
+  for (SignMode sign : {SignMode::kAuto, SignMode::kWinding}) {
+    BakeOptions options = exactOptions();
+    options.resolution = 64;
+    options.sign = sign;
+    BakeReport report;
+    const File file = bakeMesh(hollow, "hollow", options, &report);
+    SCOPED_TRACE(report.sign);
+    const View& view = file.view();
+    EXPECT_EQ(view.sample({0, 0, 0}).status, SampleStatus::kFarOutside); // the cavity's centre
+    for (const Vec3f& p : {Vec3f{0.75f, 0, 0}, Vec3f{0, -0.75f, 0}, Vec3f{0, 0, 0.75f}, Vec3f{-0.53f, 0.53f, 0}})
+      EXPECT_EQ(view.sample(p).status, SampleStatus::kFarInside) << p.x << " " << p.y << " " << p.z;
+    const Vec3f corner = view.grid().origin + Vec3f{0.5f, 0.5f, 0.5f} * view.grid().voxel_size;
+    EXPECT_EQ(view.sample(corner).status, SampleStatus::kFarOutside);
+  }
+}
+
 // Voxels whose closest point lies well inside one face of the box: their normal is that face's.
 TEST_F(BakeTest, FlatFaceNormalsInExactAndNormalBlurModes) {
   const Mesh box = testing::boxMesh({0, 0, 0}, {1.0f, 1.0f, 1.0f});
