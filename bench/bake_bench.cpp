@@ -1,7 +1,7 @@
 // Bake time against OpenVDB's meshToLevelSet alone, same mesh, same voxel size, same band, one run
 // (issue #4's goal: the Stanford bunny at resolution 128 in <= 1.5 s on 2 cores and <= 2x
-// meshToLevelSet; the paper needed one to two minutes for 50^3). The mesh path comes from
-// DNG_BENCH_MESH (bench/run.sh fetches Debian's bunny00.off).
+// meshToLevelSet; the paper needed one to two minutes for 50^3), and at 512 to show how it scales. The mesh path comes
+// from DNG_BENCH_MESH (bench/run.sh fetches Debian's bunny00.off).
 #include "baker.h"
 
 #include <benchmark/benchmark.h>
@@ -23,7 +23,7 @@ const char* meshPath() {
 void BM_Dngbake(benchmark::State& state) {
   BakeOptions options;
   options.mode = NormalMode(state.range(0));
-  options.resolution = 128;
+  options.resolution = std::uint32_t(state.range(1));
   const std::string out = (std::filesystem::temp_directory_path() / "dng_bake_bench.dng").string();
   for (auto _ : state) {
     BakeReport report;
@@ -33,14 +33,21 @@ void BM_Dngbake(benchmark::State& state) {
       return;
     }
   }
-  state.SetLabel(std::string("dngbake ") + normalModeName(options.mode) + " @128");
+  state.SetLabel(std::string("dngbake ") + normalModeName(options.mode) + " @" + std::to_string(options.resolution));
 }
 BENCHMARK(BM_Dngbake)
-    ->Arg(int(NormalMode::kExact))
-    ->Arg(int(NormalMode::kNormalBlur))
+    ->Args({int(NormalMode::kExact), 128})
+    ->Args({int(NormalMode::kNormalBlur), 128})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(2);
+// How the sparse store scales: 64x the voxels of @128 (two repetitions only: each takes seconds).
+BENCHMARK(BM_Dngbake)
+    ->Args({int(NormalMode::kNormalBlur), 512})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1)
+    ->Repetitions(2);
 
 // The baseline gets the mesh already loaded and the same grid the baker placed: only the volume build.
 void BM_MeshToLevelSet(benchmark::State& state) {
@@ -50,7 +57,7 @@ void BM_MeshToLevelSet(benchmark::State& state) {
     return;
   }
   BakeOptions options;
-  options.resolution = 128;
+  options.resolution = std::uint32_t(state.range(0));
   dng::format::GridGeometry grid;
   std::vector<std::string> warnings;
   (void)placeGrid(checkMesh(soup), options, &grid, &warnings);
@@ -67,9 +74,10 @@ void BM_MeshToLevelSet(benchmark::State& state) {
         openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, grid.band / grid.voxel_size);
     benchmark::DoNotOptimize(volume.get());
   }
-  state.SetLabel("OpenVDB meshToLevelSet, same voxel size and band");
+  state.SetLabel("OpenVDB meshToLevelSet @" + std::to_string(options.resolution) + ", same voxel size and band");
 }
-BENCHMARK(BM_MeshToLevelSet)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_MeshToLevelSet)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_MeshToLevelSet)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
 
 } // namespace
 
