@@ -340,6 +340,12 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
     stl.write(reinterpret_cast<const char*>(&attributes), 2);
   }
   std::ofstream(path("flat.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
+  // OpenMesh's OBJ reader asserts (and aborts) on a face vertex without its index: found by fuzzing.
+  std::ofstream(path("no_index.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n";
+  // OpenMesh's PLY reader crashed on a property before any element (a misspelt keyword): fuzzing.
+  std::ofstream(path("misspelt.ply")) << "ply\nformat ascii 1.0\neLement vertex 3\nproperty float x\nend_header\n";
+  // OpenMesh's OFF reader took a negative face count as a huge one and kept reading: fuzzing.
+  std::ofstream(path("negative.off")) << "OFF\n 0  -1 2\n";
   std::ofstream(path("mesh.fbx")) << "nope";
   std::ofstream(path("keep.dng")) << "previous contents";
   struct Case {
@@ -354,6 +360,9 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("nan.stl"), 3, "declares 1 facets but OpenMesh kept 0"}, // OpenMesh drops the NaN facet
       {path("nan_text.obj"), 3, "no faces"},                         // the reader drops the face: we cannot tell why
       {path("flat.obj"), 3, "degenerate"},
+      {path("no_index.obj"), 3, "line 4: face vertex '/1' has no vertex index"},
+      {path("misspelt.ply"), 3, "line 3 'eLement vertex 3' has an unknown keyword"},
+      {path("negative.off"), 3, "count '-1' is not a number"},
       {path("good.obj") + " --mode sideways", 1, "sideways"},
       {path("good.obj") + " --resolution 4", 1, "resolution"},
       {path("good.obj") + " --resolution 2000 --encoding dense", 1, "at most 134,217,728"},
@@ -389,6 +398,19 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
   EXPECT_EQ(run.exit_code, 4) << run.output;
   EXPECT_NE(run.output.find("out of memory"), std::string::npos) << run.output;
   std::ifstream in(path("kept.dng"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), "previous contents");
+}
+
+// Ctrl-C stops a bake at its next progress report with exit code 130 and leaves the previous output.
+TEST_F(BakeTest, InterruptStopsTheBakeAndKeepsThePreviousOutput) {
+  testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 64, 32), path("slow.obj"));
+  std::ofstream(path("slow.dng")) << "previous contents";
+  // Resolution 400 takes seconds; the interrupt comes after half a second, once loading is done.
+  const ProgramRun run = testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + path("slow.obj") + " -o " +
+                                             path("slow.dng") + " --resolution 400 --quiet & pid=$!; sleep 0.5; " +
+                                             "kill -INT $pid; wait $pid; echo \"status $?\"");
+  EXPECT_NE(run.output.find("status 130"), std::string::npos) << run.output;
+  std::ifstream in(path("slow.dng"));
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), "previous contents");
 }
 

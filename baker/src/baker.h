@@ -1,5 +1,6 @@
 // The baker's stages, declared in one place (DESIGN.md §4). Each stage lives in its own .cpp:
 //   load_mesh.cpp   OpenMesh parsing into a triangle soup
+//   reader_guards.cpp   checks for inputs OpenMesh's readers mishandle, run before them
 //   check_mesh.cpp  mesh diagnostics and the "can this be baked" decision
 //   closest_point.cpp   Embree closest-point queries
 //   winding_number.cpp  fast generalized winding number on an Embree-built BVH (the sign)

@@ -24,7 +24,15 @@ using namespace dng::baker;
 constexpr int kExitInterrupted = 130;
 std::atomic<bool> g_interrupted{false};
 
-extern "C" void onSignal(int) { g_interrupted = true; }
+// The first signal asks the bake to stop at its next progress report (nothing is written). Loading a
+// mesh has none, so a second signal ends the process the default way: a person pressing Ctrl-C twice
+// must not be ignored. signal() and raise() are async-signal-safe.
+extern "C" void onSignal(int sig) {
+  if (g_interrupted.exchange(true)) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+  }
+}
 
 struct CommandLine {
   std::string input;

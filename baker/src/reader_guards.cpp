@@ -1,0 +1,160 @@
+// The guards against inputs OpenMesh's readers mishandle (reader_guards.h).
+#include "reader_guards.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <vector>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+bool isPlyType(const std::string& t) {
+  static const char* const kTypes[] = {"char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
+                                       "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
+}
+
+bool isCount(const std::string& s) {
+  return !s.empty() && s.size() < 19 &&
+         std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+// [ST][C][N][4][n]OFF, the OFF magic and its variants.
+bool isOffVariant(const std::string& keyword) {
+  std::size_t at = 0;
+  for (const char* optional : {"ST", "C", "N", "4", "n"}) {
+    const std::size_t n = std::strlen(optional);
+    if (keyword.compare(at, n, optional) == 0) at += n;
+  }
+  return keyword.compare(at, std::string::npos, "OFF") == 0;
+}
+
+// Empty when one header line (after "ply") is well-formed, else what is wrong with it.
+std::string plyLineProblem(const std::string& line, std::uint64_t file_size, bool* io_seen_element) {
+  std::istringstream words(line);
+  std::vector<std::string> w;
+  for (std::string word; words >> word;)
+    w.push_back(word);
+  if (w.empty()) return "is empty";
+  if (w[0] == "comment" || w[0] == "obj_info") return {};
+  if (w[0] == "format") {
+    // PLY has one version; OpenMesh read a mangled one and then hung (found by fuzzing).
+    const bool known = w.size() == 3 && w[2] == "1.0" &&
+                       (w[1] == "ascii" || w[1] == "binary_little_endian" || w[1] == "binary_big_endian");
+    return known ? "" : "is not 'format ascii|binary_little_endian|binary_big_endian 1.0'";
+  }
+  if (w[0] == "element") {
+    *io_seen_element = true;
+    if (w.size() != 3) return "is not 'element NAME COUNT'";
+    // At least one byte per element: a count larger than the file is impossible.
+    return isCount(w[2]) && std::stoull(w[2]) <= file_size ? "" : "has an impossible element count";
+  }
+  if (w[0] == "property") {
+    if (!*io_seen_element) return "declares a property before any element";
+    const bool scalar = w.size() == 3 && isPlyType(w[1]);
+    const bool list = w.size() == 5 && w[1] == "list" && isPlyType(w[2]) && isPlyType(w[3]);
+    return scalar || list ? "" : "is not 'property TYPE NAME' or 'property list TYPE TYPE NAME' with a PLY type";
+  }
+  return "has an unknown keyword '" + w[0] + "'";
+}
+
+} // namespace
+
+// OpenMesh 9.0's PLY reader trusts its header: a malformed element count made it spin for 85 s and
+// then throw, and a property before any element (a misspelt "element", found by fuzzing) crashed it.
+// So the whole header must be well-formed before it sees the file.
+BakeStatus checkPlyHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  auto failure = [&](const std::string& why) {
+    return BakeStatus::failure(ExitCode::kInvalidInput, "'" + path + "': PLY header " + why);
+  };
+  std::string line;
+  bool seen_element = false;
+  for (int n = 1; n <= 1000 && std::getline(in, line); ++n) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (n == 1 && line != "ply") return failure("does not start with 'ply'");
+    if (n == 1) continue;
+    if (line == "end_header") return BakeStatus::success();
+    const std::string problem = plyLineProblem(line, size, &seen_element);
+    if (!problem.empty()) return failure("line " + std::to_string(n) + " '" + line + "' " + problem);
+  }
+  return failure("has no end_header line in its first 1000 lines");
+}
+
+// OpenMesh 9.0's OFF reader trusts the counts too: "OFF\n0 -1 2" (a negative face count, found by
+// fuzzing) kept it reading for more than 10 s. The counts must be plain numbers the file can hold.
+BakeStatus checkOffHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  auto failure = [&](const std::string& why) {
+    return BakeStatus::failure(ExitCode::kInvalidInput, "'" + path + "': OFF header " + why);
+  };
+  std::string first_line;
+  std::getline(in, first_line);
+  // No "OFF" at all: OpenMesh's reader refuses it by itself (an I/O error, as for other unreadable
+  // files). Anything else must be one of the variants [ST][C][N][4][n]OFF [BINARY], the counts after it.
+  if (first_line.find("OFF") == std::string::npos) return BakeStatus::success();
+  std::istringstream words(first_line);
+  std::string keyword, binary;
+  words >> keyword >> binary;
+  if (!isOffVariant(keyword) || (!binary.empty() && binary != "BINARY" && !isCount(binary)))
+    return failure("'" + first_line.substr(0, 40) + "' is not OFF, COFF, NOFF, STOFF, 4OFF or nOFF");
+  // Binary OFF and the n-dimensional variant lay out what follows differently; leave them to the reader.
+  if (binary == "BINARY" || keyword.find('n') != std::string::npos) return BakeStatus::success();
+  std::vector<std::string> counts;
+  for (std::string line = first_line.substr(keyword.size()); counts.size() < 3;) {
+    std::istringstream numbers(line.substr(0, line.find('#')));
+    for (std::string word; counts.size() < 3 && numbers >> word;)
+      counts.push_back(word);
+    if (!std::getline(in, line)) break;
+  }
+  if (counts.size() < 3) return failure("does not give vertex, face and edge counts");
+  for (std::size_t n = 0; n < 3; ++n) {
+    if (!isCount(counts[n])) return failure("count '" + counts[n] + "' is not a number");
+  }
+  // At least "0 0 0" and a line end per vertex and a digit and a line end per face.
+  if (std::stoull(counts[0]) > size / 6 || std::stoull(counts[1]) > size / 2)
+    return failure("counts " + counts[0] + " " + counts[1] + " are impossible in a file of " + std::to_string(size) +
+                   " bytes");
+  return BakeStatus::success();
+}
+
+long long declaredStlFacets(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char header[84];
+  if (!in.read(header, sizeof header)) return -1;
+  std::uint32_t count;
+  std::memcpy(&count, header + 80, 4);
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  return size == 84 + 50 * std::uint64_t(count) ? (long long)count : -1;
+}
+
+BakeStatus checkObjFaces(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (std::uint64_t number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword, vertex;
+    words >> keyword;
+    if (keyword != "f") continue;
+    while (words >> vertex) {
+      if (vertex.front() == '/')
+        return BakeStatus::failure(ExitCode::kInvalidInput,
+                                   "'" + path + "': line " + std::to_string(number) + ": face vertex '" + vertex +
+                                       "' has no vertex index (OBJ needs v, v/vt, v//vn or v/vt/vn)");
+    }
+  }
+  return BakeStatus::success();
+}
+
+} // namespace baker
+} // namespace dng

@@ -1,0 +1,29 @@
+// Checks run before OpenMesh's readers see a file, for inputs those readers mishandle (OpenMesh 9.0,
+// as Debian ships it: with assertions on). Each guard was found by a test or by fuzzing load_mesh.
+#pragma once
+
+#include "baker.h"
+
+#include <string>
+
+namespace dng {
+namespace baker {
+
+/// kInvalidInput unless every PLY header element count is a plain number the file is large enough to
+/// hold. OpenMesh trusts the counts: "element vertex banana" made it spin for 85 s and then throw.
+BakeStatus checkPlyHeader(const std::string& path);
+
+/// kInvalidInput unless an ASCII OFF file's vertex and face counts are plain numbers the file can
+/// hold. OpenMesh reads a negative count as a huge one and keeps going.
+BakeStatus checkOffHeader(const std::string& path);
+
+/// kInvalidInput when an OBJ face lists a vertex without its vertex index ("f /1 2 3"): OpenMesh's
+/// OBJ reader asserts on that and aborts the process.
+BakeStatus checkObjFaces(const std::string& path);
+
+/// The facet count a binary STL declares, or -1 for ASCII or malformed files. OpenMesh's reader
+/// silently drops facets it cannot use (seen: a NaN coordinate), so loadMesh compares the two.
+long long declaredStlFacets(const std::string& path);
+
+} // namespace baker
+} // namespace dng
