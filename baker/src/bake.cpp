@@ -96,8 +96,6 @@ struct StageProgress {
   }
 };
 
-BakeStatus cancelled() { return BakeStatus::failure(ExitCode::kInternal, "cancelled"); }
-
 BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options,
                       ProgressFn progress, void* user, BakeReport* report) {
   std::unique_ptr<tbb::global_control> thread_limit;
@@ -114,7 +112,7 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
                                " faces referred to missing vertices and were skipped");
   if (!(status = hashFile(input, &report->source_hash)).ok()) return status;
   timer.done("load");
-  if (!reportStage(progress, user, "load")) return cancelled();
+  if (!reportStage(progress, user, "load")) return BakeStatus::cancelled();
 
   report->mesh = checkMesh(soup);
   if (!(status = requireBakeable(report->mesh)).ok()) {
@@ -140,7 +138,7 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   timer.done("distance");
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
-  if (!reportStage(progress, user, "normals")) return cancelled();
+  if (!reportStage(progress, user, "normals")) return BakeStatus::cancelled();
 
   const std::string meta = metadataJson(options, report->grid, report->source_hash, report->sign);
   StageProgress encode_progress{progress, user, "encode"};
@@ -152,7 +150,7 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   format::EncodeResult encoded = options.encoding == format::Encoding::kDense
                                      ? format::encodeDense(band, meta, hooks)
                                      : format::encodeBricked(band, options.brick, meta, hooks);
-  if (encoded.error == "cancelled") return cancelled();
+  if (encoded.error == "cancelled") return BakeStatus::cancelled();
   if (!encoded.ok()) return BakeStatus::failure(ExitCode::kInternal, "encoding failed: " + encoded.error);
   report->encode = encoded.stats;
   timer.done("encode");

@@ -46,6 +46,8 @@ struct [[nodiscard]] BakeStatus {
   bool ok() const { return code == ExitCode::kOk; }
   static BakeStatus success() { return {}; }
   static BakeStatus failure(ExitCode c, std::string m) { return {c, std::move(m)}; }
+  /// What every stage returns when its progress callback asked to stop.
+  static BakeStatus cancelled() { return {ExitCode::kInternal, "cancelled"}; }
 };
 
 /// Triangles exactly as the file gave them (polygons fanned into triangles), with no merging,

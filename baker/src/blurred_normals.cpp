@@ -119,8 +119,6 @@ typename GridT::Ptr blurRounds(const GridT& surface, const format::GridGeometry&
   return current;
 }
 
-BakeStatus cancelled() { return BakeStatus::failure(ExitCode::kInternal, "cancelled"); }
-
 // Calls visit(coordinate, distance, normal&) for every band voxel, leaves in parallel. `make_state`
 // gives each leaf task its own state (an accessor), passed to visit as the first argument.
 template <class MakeState, class Visit> void forEachBandVoxel(BandGrid* band, MakeState make_state, Visit visit) {
@@ -144,14 +142,14 @@ BakeStatus blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t r
   PassProgress passes(progress, progress_user, 3 * rounds);
   const auto start = surfaceGrid<openvdb::Vec3SGrid>(surface, [](const SurfaceVoxel& s) { return toVdb(s.normal); });
   const openvdb::Vec3SGrid::Ptr blurred = blurRounds(*start, io->grid(), radius, rounds, passes);
-  if (blurred == nullptr) return cancelled();
+  if (blurred == nullptr) return BakeStatus::cancelled();
   forEachBandVoxel(
       io, [&] { return Reader<openvdb::Vec3SGrid>(blurred->tree()); },
       [](Reader<openvdb::Vec3SGrid>& field, const Coord& at, float, openvdb::Vec3s& normal) {
         const Vec3f n = normalizeOrZero(fromVdb(field.getValue(at)));
         if (dot(n, n) > 0.0f) normal = toVdb(n); // beyond the blur's reach the exact normal stays
       });
-  return passes.passDone() ? BakeStatus::success() : cancelled();
+  return passes.passDone() ? BakeStatus::success() : BakeStatus::cancelled();
 }
 
 BakeStatus potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
@@ -159,7 +157,7 @@ BakeStatus potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint3
   PassProgress passes(progress, progress_user, 3 * rounds);
   const auto start = surfaceGrid<openvdb::FloatGrid>(surface, [](const SurfaceVoxel&) { return 1.0f; });
   const openvdb::FloatGrid::Ptr potential = blurRounds(*start, io->grid(), radius, rounds, passes);
-  if (potential == nullptr) return cancelled();
+  if (potential == nullptr) return BakeStatus::cancelled();
   forEachBandVoxel(
       io, [&] { return Reader<openvdb::FloatGrid>(potential->tree()); },
       [](Reader<openvdb::FloatGrid>& p, const Coord& at, float distance, openvdb::Vec3s& normal) {
@@ -181,7 +179,7 @@ BakeStatus potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint3
         const bool flip = dot(exact, exact) > 0.0f ? dot(n, exact) < 0.0f : distance < 0.0f;
         normal = toVdb(flip ? n * -1.0f : n);
       });
-  return passes.passDone() ? BakeStatus::success() : cancelled();
+  return passes.passDone() ? BakeStatus::success() : BakeStatus::cancelled();
 }
 
 } // namespace baker

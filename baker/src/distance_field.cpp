@@ -133,7 +133,7 @@ BakeStatus computeDistanceField(const TriangleSoup& soup, const PseudonormalSign
                         }
                       }
                     });
-  if (cancelled) return BakeStatus::failure(ExitCode::kInternal, "cancelled");
+  if (cancelled) return BakeStatus::cancelled();
   out->finishBand();
   return BakeStatus::success();
 }
