@@ -21,6 +21,21 @@ openvdb::math::Transform::Ptr vdbTransform(const format::GridGeometry& g) {
   return transform;
 }
 
+namespace {
+
+// Calls visit(cell) for the origin of every block-sized cell the box overlaps, z slowest, until visit
+// returns false. Returns whether it visited them all.
+template <class Visit> bool forEachCell(const format::VoxelBox& box, Visit visit) {
+  const int dim = VoxelBlock::kDim;
+  for (int z = int(box.lo[2]) / dim; z <= int(box.hi[2] - 1) / dim; ++z)
+    for (int y = int(box.lo[1]) / dim; y <= int(box.hi[1] - 1) / dim; ++y)
+      for (int x = int(box.lo[0]) / dim; x <= int(box.hi[0] - 1) / dim; ++x)
+        if (!visit(openvdb::Coord(x * dim, y * dim, z * dim))) return false;
+  return true;
+}
+
+} // namespace
+
 BandGrid::BandGrid(const format::GridGeometry& grid) : grid_(grid), impl_(std::make_unique<Impl>()) {
   openvdb::initialize(); // registers the grid types; idempotent
   impl_->distance = openvdb::FloatGrid::create(grid.band);
@@ -84,48 +99,43 @@ void BandGrid::read(const format::VoxelBox& box, float* distance, Vec3f* normal)
   const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
   // Leaf by leaf from the raw buffers (an accessor walks the tree and checks delayed loading per
   // voxel); cells without a leaf hold one tile value.
-  for (int z = int(box.lo[2]) / dim; z <= int(box.hi[2] - 1) / dim; ++z)
-    for (int y = int(box.lo[1]) / dim; y <= int(box.hi[1] - 1) / dim; ++y)
-      for (int x = int(box.lo[0]) / dim; x <= int(box.hi[0] - 1) / dim; ++x) {
-        const openvdb::Coord cell(x * dim, y * dim, z * dim);
-        const auto* d_leaf = distances.probeConstLeaf(cell);
-        const auto* n_leaf = normals.probeConstLeaf(cell);
-        const float* d_values = d_leaf != nullptr ? d_leaf->buffer().data() : nullptr;
-        const openvdb::Vec3s* n_values = n_leaf != nullptr ? n_leaf->buffer().data() : nullptr;
-        const float d_tile = d_leaf != nullptr ? 0.0f : distances.getValue(cell);
-        const openvdb::Vec3s n_tile = n_leaf != nullptr ? openvdb::Vec3s(0.0f) : normals.getValue(cell);
-        int lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-          lo[a] = std::max(int(box.lo[a]), cell[a]);
-          hi[a] = std::min(int(box.hi[a]), cell[a] + dim);
+  forEachCell(box, [&](const openvdb::Coord& cell) {
+    const auto* d_leaf = distances.probeConstLeaf(cell);
+    const auto* n_leaf = normals.probeConstLeaf(cell);
+    const float* d_values = d_leaf != nullptr ? d_leaf->buffer().data() : nullptr;
+    const openvdb::Vec3s* n_values = n_leaf != nullptr ? n_leaf->buffer().data() : nullptr;
+    const float d_tile = d_leaf != nullptr ? 0.0f : distances.getValue(cell);
+    const openvdb::Vec3s n_tile = n_leaf != nullptr ? openvdb::Vec3s(0.0f) : normals.getValue(cell);
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max(int(box.lo[a]), cell[a]);
+      hi[a] = std::min(int(box.hi[a]), cell[a] + dim);
+    }
+    for (int k = lo[2]; k < hi[2]; ++k)
+      for (int j = lo[1]; j < hi[1]; ++j)
+        for (int i = lo[0]; i < hi[0]; ++i) {
+          const std::size_t out = ((k - box.lo[2]) * ny + (j - box.lo[1])) * nx + (i - box.lo[0]);
+          const int in = VoxelBlock::offset(i - cell[0], j - cell[1], k - cell[2]);
+          distance[out] = d_values != nullptr ? d_values[in] : d_tile;
+          const openvdb::Vec3s n = n_values != nullptr ? n_values[in] : n_tile;
+          normal[out] = {n.x(), n.y(), n.z()};
         }
-        for (int k = lo[2]; k < hi[2]; ++k)
-          for (int j = lo[1]; j < hi[1]; ++j)
-            for (int i = lo[0]; i < hi[0]; ++i) {
-              const std::size_t out = ((k - box.lo[2]) * ny + (j - box.lo[1])) * nx + (i - box.lo[0]);
-              const int in = VoxelBlock::offset(i - cell[0], j - cell[1], k - cell[2]);
-              distance[out] = d_values != nullptr ? d_values[in] : d_tile;
-              const openvdb::Vec3s n = n_values != nullptr ? n_values[in] : n_tile;
-              normal[out] = {n.x(), n.y(), n.z()};
-            }
-      }
+    return true;
+  });
 }
 
 format::FarHint BandGrid::farHint(const format::VoxelBox& box) const {
   const openvdb::FloatTree& tree = impl_->distance->tree();
-  const int dim = VoxelBlock::kDim;
   bool inside = false, outside = false;
   // A block-sized cell without a leaf holds one tile value throughout.
-  for (int z = int(box.lo[2]) / dim; z <= int(box.hi[2] - 1) / dim; ++z)
-    for (int y = int(box.lo[1]) / dim; y <= int(box.hi[1] - 1) / dim; ++y)
-      for (int x = int(box.lo[0]) / dim; x <= int(box.hi[0] - 1) / dim; ++x) {
-        const openvdb::Coord cell(x * dim, y * dim, z * dim);
-        if (tree.probeConstLeaf(cell) != nullptr) return format::FarHint::kUnknown;
-        const float value = tree.getValue(cell);
-        if (std::fabs(value) < grid_.band) return format::FarHint::kUnknown;
-        (value < 0.0f ? inside : outside) = true;
-      }
-  if (inside == outside) return format::FarHint::kUnknown;
+  const bool all_tiles = forEachCell(box, [&](const openvdb::Coord& cell) {
+    if (tree.probeConstLeaf(cell) != nullptr) return false;
+    const float value = tree.getValue(cell);
+    if (std::fabs(value) < grid_.band) return false;
+    (value < 0.0f ? inside : outside) = true;
+    return true;
+  });
+  if (!all_tiles || inside == outside) return format::FarHint::kUnknown;
   return inside ? format::FarHint::kFarInside : format::FarHint::kFarOutside;
 }
 
