@@ -90,15 +90,14 @@ BakeStatus checkPlyHeader(const std::string& path) {
   return failure("has no end_header line in its first 1000 lines");
 }
 
-// OpenMesh 9.0's OFF reader trusts the counts too: "OFF\n0 -1 2" (a negative face count, found by
-// fuzzing) kept it reading for more than 10 s. The counts must be plain numbers the file can hold.
 // Each face line must list as many indices as its valence says: OpenMesh reserved room for a valence
 // of 3 * 10^86 (read as a huge number) and tried to allocate 2 GB (found by fuzzing).
 template <class Failure>
 BakeStatus checkOffFaces(std::istream& in, std::uint64_t vertices, std::uint64_t faces, Failure failure) {
   std::string line;
   for (std::uint64_t skipped = 0; skipped < vertices && std::getline(in, line);) {
-    if (line.find_first_not_of(" \t\r") != std::string::npos && line[line.find_first_not_of(" \t\r")] != '#') ++skipped;
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first != std::string::npos && line[first] != '#') ++skipped; // blank and comment lines are not vertices
   }
   for (std::uint64_t face = 0; face < faces && std::getline(in, line);) {
     std::istringstream words(line.substr(0, line.find('#')));
@@ -115,6 +114,8 @@ BakeStatus checkOffFaces(std::istream& in, std::uint64_t vertices, std::uint64_t
   return BakeStatus::success();
 }
 
+// OpenMesh 9.0's OFF reader trusts the counts too: "OFF\n0 -1 2" (a negative face count, found by
+// fuzzing) kept it reading for more than 10 s. The counts must be plain numbers the file can hold.
 BakeStatus checkOffHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const auto size = std::uint64_t(std::filesystem::file_size(path));
