@@ -236,7 +236,7 @@ TEST_F(BakeTest, ThinSheetInPotentialModeRepelsFromBothSides) {
 TEST_F(BakeTest, SameBytesWhateverTheThreadCount) {
   const Mesh torus = testing::torusMesh({0, 0, 0}, 1.0f, 0.35f, 32, 16);
   testing::writeObj(torus, path("torus.obj"));
-  std::vector<std::vector<char>> outputs;
+  std::vector<std::string> outputs;
   for (std::uint32_t threads : {1u, 2u}) {
     BakeOptions options = exactOptions();
     options.mode = NormalMode::kNormalBlur;
@@ -244,8 +244,7 @@ TEST_F(BakeTest, SameBytesWhateverTheThreadCount) {
     BakeReport report;
     const std::string out = path("torus_" + std::to_string(threads) + ".dng");
     ASSERT_TRUE(bake(path("torus.obj"), {out, {}}, options, nullptr, nullptr, &report).ok());
-    std::ifstream in(out, std::ios::binary);
-    outputs.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    outputs.push_back(testing::readFile(out));
   }
   EXPECT_EQ(outputs[0], outputs[1]);
 }
@@ -290,8 +289,7 @@ TEST_F(BakeTest, ProgressReportsWithinStagesAndCancelStopsTheBake) {
 // The source hash is read in 1 MB chunks: a mesh file of several MB checks the chunks join up.
 TEST_F(BakeTest, SourceHashIsTheXxh64OfTheWholeInputFile) {
   testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 300, 150), path("fine.obj"));
-  std::ifstream in(path("fine.obj"), std::ios::binary);
-  const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const std::string bytes = testing::readFile(path("fine.obj"));
   ASSERT_GT(bytes.size(), std::size_t(2) << 20);
   char expected[17];
   std::snprintf(expected, sizeof expected, "%016llx", (unsigned long long)format::xxhash64(bytes.data(), bytes.size()));
@@ -377,8 +375,7 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
     EXPECT_FALSE(fs::exists(path("out.dng")));
     // A failed bake leaves an existing output untouched.
     const ProgramRun kept = runDngbake(c.args + " -o " + path("keep.dng"));
-    std::ifstream in(path("keep.dng"));
-    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), "previous contents");
+    EXPECT_EQ(testing::readFile(path("keep.dng")), "previous contents");
   }
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
@@ -397,8 +394,7 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
                                              path("big.obj") + " --resolution 2000 -o " + path("kept.dng") + " 2>&1");
   EXPECT_EQ(run.exit_code, 4) << run.output;
   EXPECT_NE(run.output.find("out of memory"), std::string::npos) << run.output;
-  std::ifstream in(path("kept.dng"));
-  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), "previous contents");
+  EXPECT_EQ(testing::readFile(path("kept.dng")), "previous contents");
 }
 
 // Ctrl-C stops a bake at its next progress report with exit code 130 and leaves the previous output.
@@ -410,8 +406,7 @@ TEST_F(BakeTest, InterruptStopsTheBakeAndKeepsThePreviousOutput) {
                                              path("slow.dng") + " --resolution 400 --quiet & pid=$!; sleep 0.5; " +
                                              "kill -INT $pid; wait $pid; echo \"status $?\"");
   EXPECT_NE(run.output.find("status 130"), std::string::npos) << run.output;
-  std::ifstream in(path("slow.dng"));
-  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), "previous contents");
+  EXPECT_EQ(testing::readFile(path("slow.dng")), "previous contents");
 }
 
 TEST_F(BakeTest, ProgramReportsJsonAndVersion) {

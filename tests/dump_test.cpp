@@ -33,18 +33,13 @@ ProgramRun dngdump(const std::string& dir, const std::string& args, bool with_st
   return {run.exit_code, run.output};
 }
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 void compareWithGoldenText(const std::string& name, const std::string& actual) {
   const std::string path = testing::goldenPath(name.c_str());
   if (std::getenv("DNG_UPDATE_GOLDEN") != nullptr) {
     std::ofstream(path) << actual;
     return;
   }
-  EXPECT_EQ(actual, readText(path)) << "differs from " << path;
+  EXPECT_EQ(actual, testing::readFile(path)) << "differs from " << path;
 }
 
 class DumpTest : public ::testing::Test {

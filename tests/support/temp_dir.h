@@ -1,8 +1,10 @@
-// A fresh folder under the system's temporary directory, removed with everything in it when the
+// Test files: a fresh folder under the system's temporary directory, removed with everything in it when the
 // object goes away. Named after the test and the process so parallel ctest runs do not collide.
 #pragma once
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <unistd.h>
@@ -29,6 +31,12 @@ public:
 private:
   std::filesystem::path path_;
 };
+
+/// The whole file's bytes, or an empty string when it cannot be opened.
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 } // namespace testing
 } // namespace dng
