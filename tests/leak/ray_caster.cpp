@@ -32,7 +32,12 @@ std::uint64_t rayCastStep(const reference::MeshReference& mesh, float voxel, flo
         Vec3f n_local = mesh.faceNormal(first.triangle);
         const Vec3f hit = a + (b - a) * first.t;
         if (dot(a - hit, n_local) < 0.0f) n_local = n_local * -1.0f; // the side the particle came from
-        end = after.toWorld(hit + n_local * (kStandOffVoxels * voxel));
+        Vec3f stop = hit + n_local * (kStandOffVoxels * voxel);
+        // In a concave corner the stand-off from one face can land a rounding error past the other:
+        // then the particle keeps its place on the body for this step, which is known to be clear.
+        mesh.crossings(a, stop, &crossings);
+        if (!crossings.empty() || mesh.closest(stop).distance < 0.5f * kStandOffVoxels * voxel) stop = a;
+        end = after.toWorld(stop);
         const Vec3f normal = after.rotateToWorld(n_local);
         const Vec3f surface = before.surfaceVelocity(p);
         const Vec3f relative = v - surface;
