@@ -9,9 +9,18 @@ namespace dng {
 
 namespace {
 
+bool insideGrid(const GridInfo& g, Vec3f p) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo = component(g.origin, axis);
+    if (!(component(p, axis) >= lo && component(p, axis) < lo + float(g.dims[axis]) * g.voxel_size)) return false;
+  }
+  return true;
+}
+
 // Clips the segment a + t d, t in [0, 1], to the grid's box; false when it misses. The box holds the
 // whole band with padding, so the parts of a segment outside it are clear.
 bool clipToGrid(const GridInfo& g, Vec3f a, Vec3f d, float* io_t0, float* io_t1) {
+  if (insideGrid(g, a) && insideGrid(g, a + d)) return true; // the common case: nothing to clip
   for (int axis = 0; axis < 3; ++axis) {
     const float lo = component(g.origin, axis);
     const float hi = lo + float(g.dims[axis]) * g.voxel_size;
