@@ -105,7 +105,9 @@ TEST_P(BakeSign, ExactModeDistancesAndSignsMatchBruteForce) {
       // concave facets. Inside, values only have to stay negative and are rounded to the nearest code.
       ASSERT_LE(s.distance, std::max(truth, 0.0f) + 1e-5f * h) << c.x << " " << c.y << " " << c.z;
       ASSERT_NEAR(s.distance, truth, 0.25f * h) << c.x << " " << c.y << " " << c.z;
-      if (inside) ASSERT_LT(s.distance, 0.0f);
+      if (inside) {
+        ASSERT_LT(s.distance, 0.0f);
+      }
     }
   }
 }
@@ -214,7 +216,9 @@ TEST_F(BakeTest, PlanesBoundTheTrueDistanceAnywhereInTheirCells) {
             testing::bruteDistance(shape.mesh, p) * (testing::bruteWinding(shape.mesh, p) > 0.5 ? -1.0f : 1.0f);
         // The runtime never takes more than the guaranteed reach from a sample (FORMAT.md §5.1).
         const float value = std::min(s.distance, view.guaranteedReach());
-        if (value >= 0.0f) ASSERT_LE(value, truth + 0.01f * g.voxel_size) << p.x << " " << p.y << " " << p.z;
+        if (value >= 0.0f) {
+          ASSERT_LE(value, truth + 0.01f * g.voxel_size) << p.x << " " << p.y << " " << p.z;
+        }
       }
       EXPECT_EQ(checked, 2000);
     }

@@ -20,9 +20,10 @@ namespace dng {
 
 namespace {
 
-// The walk keeps this much of a voxel between a particle and the surface, so rounding in the next
-// step's sample cannot put it behind the plane that stopped it.
-constexpr float kMarginVoxels = 0.02f;
+// The walk keeps this much of a voxel between a particle and the surface: more than rounding in the
+// next step's sample and than the planes' largest measured overshoot (0.05 voxel, in exact mode
+// between a medial axis and the band's edge: docs/FORMAT.md §5.1).
+constexpr float kMarginVoxels = 0.06f;
 // Samples per body and step: enough for a design-speed step along a surface; swept bodies afford
 // any speed. A walk out of samples stops the particle early (docs/RUNTIME.md), it never crosses.
 constexpr int kWalkSamples = 24;

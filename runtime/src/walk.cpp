@@ -123,9 +123,9 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   // Steps past a cell wall land in the next cell: a fraction of a voxel, far below any margin.
   const float nudge = 2e-3f * g.voxel_size / len;
   const Vec3f back = d * (-1.0f / len);
-  // A value proves a point outside from here up: files keep their promise to a hundredth of a voxel
-  // (FORMAT.md §5.1), so half the margin leaves room for that.
-  const float proof_level = 0.5f * margin;
+  // A value proves a point outside from here up: the planes' promise holds to a hundredth of a voxel
+  // near the surface (FORMAT.md §5.1); farther out, where balls reach, the margin covers more.
+  const float proof_level = 0.01f * g.voxel_size;
   // The last points the field proves outside by itself, where a blocked walk stops; -1: none yet.
   // Own: by the point's own cell, so the next step can always recede along that cell's normal.
   // Any: by a neighbour's bound as well, the fallback.

@@ -347,13 +347,17 @@ SceneStats runDemo(const View& field, int up, const RunOptions& o) {
   setup.steps = 240;
   setup.spawn_steps = 120;
   setup.spawn_per_step = std::max(1, sized(o, 24000) / 120);
-  setup.spawn = [=](std::mt19937& rng, Vec3f* p, Vec3f* v) {
-    float c[3];
-    const float l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
-    for (int a = 0; a < 3; ++a)
-      c[a] = uniform(rng, l[a] + 0.2f * (h[a] - l[a]), h[a] - 0.2f * (h[a] - l[a]));
-    c[up] = uniform(rng, h[up] - 0.08f * height, h[up] - 0.01f * height); // a thin slab: no banding
-    *p = {c[0], c[1], c[2]};
+  setup.spawn = [=, &field](std::mt19937& rng, Vec3f* p, Vec3f* v) {
+    // A thin slab near the top (no banding), but clear of the mesh: the bunny's ears reach into it,
+    // and an emitter should not start particles inside what they collide with.
+    do {
+      float c[3];
+      const float l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+      for (int a = 0; a < 3; ++a)
+        c[a] = uniform(rng, l[a] + 0.2f * (h[a] - l[a]), h[a] - 0.2f * (h[a] - l[a]));
+      c[up] = uniform(rng, h[up] - 0.08f * height, h[up] - 0.01f * height);
+      *p = {c[0], c[1], c[2]};
+    } while (field.sample(*p).status == SampleStatus::kInBand && field.sample(*p).distance < g.voxel_size);
     *v = {0, 0, 0};
   };
   Trails trails(o, lo, hi, setup.bodies, {1.0f, 0.55f, 0.15f}, up);
