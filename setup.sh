@@ -147,7 +147,7 @@ cmd_bench() {
 }
 
 # Every mesh and mode against every leak case, 20,000 particles x 120 steps each, judged on the
-# original triangles (tests/leak/); a few minutes on 2 cores.
+# original triangles (tests/leak/); 4-8 minutes on 2 cores.
 cmd_leaks() {
   deps
   fetch_data

@@ -86,11 +86,15 @@ struct Row {
   Stats normal;   ///< degrees
   std::size_t outside_flipped = 0;
   std::size_t points = 0;
+  /// Where the reader says outside (d >= 0): the largest min(d, reach) - true distance, voxels.
+  float overestimate = 0.0f;
+  std::size_t over_promise = 0; ///< points where that exceeds a hundredth of a voxel
 };
 
 // Errors of one reader over the points; `read(n, &distance, &normal)` returns false where it has no
 // normal (outside its band), which counts as a distance error only.
-template <class Read> Row measure(const std::string& label, const std::vector<Truth>& truth, float voxel, Read read) {
+template <class Read>
+Row measure(const std::string& label, const std::vector<Truth>& truth, float voxel, float reach, Read read) {
   Row row;
   row.label = label;
   row.points = truth.size();
@@ -100,6 +104,11 @@ template <class Read> Row measure(const std::string& label, const std::vector<Tr
     Vec3f normal;
     const bool has_normal = read(n, &d, &normal);
     distance_errors.push_back(std::fabs(d - truth[n].distance) / voxel);
+    if (d >= 0.0f) {
+      const float excess = (std::min(d, reach) - truth[n].distance) / voxel;
+      row.overestimate = std::max(row.overestimate, excess);
+      row.over_promise += excess > 0.01f ? 1 : 0;
+    }
     if (!has_normal) continue;
     const float angle = float(angleDegrees(normal, truth[n].normal));
     angles.push_back(angle);
@@ -111,9 +120,9 @@ template <class Read> Row measure(const std::string& label, const std::vector<Tr
 }
 
 void printRow(const char* mesh, const Row& r) {
-  std::printf("| %s | %s | %.3f | %.3f | %.3f | %.2f | %.2f | %.2f | %zu |\n", mesh, r.label.c_str(),
-              double(r.distance.median), double(r.distance.p99), double(r.distance.max), double(r.normal.median),
-              double(r.normal.p99), double(r.normal.max), r.outside_flipped);
+  std::printf("| %s | %s | %.3f | %.3f | %.3f | %.3f (%zu) | %.2f | %.2f | %.2f | %zu |\n", mesh, r.label.c_str(),
+              double(r.distance.median), double(r.distance.p99), double(r.distance.max), double(r.overestimate),
+              r.over_promise, double(r.normal.median), double(r.normal.p99), double(r.normal.max), r.outside_flipped);
 }
 
 struct MeshResult {
@@ -197,23 +206,23 @@ bool runMesh(const std::string& path, const char* name, std::size_t count, MeshR
       }();
       const std::vector<bench::VdbReading> vdb = bench::meshToLevelSetReadings(
           soup.vertices, soup.triangles, view.grid().origin, voxel, view.grid().band, points);
-      out->rows.push_back(
-          measure("OpenVDB meshToLevelSet, trilinear", truth, voxel, [&](std::size_t n, float* d, Vec3f* nrm) {
-            *d = vdb[n].distance;
-            *nrm = vdb[n].normal;
-            return length(vdb[n].normal) > 0.0f;
-          }));
+      out->rows.push_back(measure("OpenVDB meshToLevelSet, trilinear", truth, voxel, view.guaranteedReach(),
+                                  [&](std::size_t n, float* d, Vec3f* nrm) {
+                                    *d = vdb[n].distance;
+                                    *nrm = vdb[n].normal;
+                                    return length(vdb[n].normal) > 0.0f;
+                                  }));
     }
     const std::string mode_name = baker::normalModeName(mode);
     for (const Interpolation interpolation : {Interpolation::kNearest, Interpolation::kTrilinear}) {
       const char* query = interpolation == Interpolation::kNearest ? "nearest" : "trilinear";
-      out->rows.push_back(
-          measure("dngrid " + mode_name + ", " + query, truth, voxel, [&](std::size_t n, float* d, Vec3f* nrm) {
-            const Sample s = view.sample(truth[n].p, interpolation);
-            *d = s.distance;
-            *nrm = s.normal;
-            return s.status == SampleStatus::kInBand;
-          }));
+      out->rows.push_back(measure("dngrid " + mode_name + ", " + query, truth, voxel, view.guaranteedReach(),
+                                  [&](std::size_t n, float* d, Vec3f* nrm) {
+                                    const Sample s = view.sample(truth[n].p, interpolation);
+                                    *d = s.distance;
+                                    *nrm = s.normal;
+                                    return s.status == SampleStatus::kInBand;
+                                  }));
     }
     out->reach_lines.push_back(reachLine(name, mode_name.c_str(), view, truth));
   }
@@ -239,17 +248,21 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("\n## Accuracy in the band (bench/accuracy_bench.cpp)\n\n");
-  std::printf("`bunny00.off` and `fandisk.off` baked at resolution 64 with the band of a 3-voxel-per-step design "
-              "speed (%.2f voxels), bricked. %zu points per mesh, uniform over the box, kept where the true distance "
-              "is within the guaranteed reach of the surface. Truth: the closest point on the original triangles "
-              "(Embree) for distance and normal (the direction from the closest point, outwards), ray parity for "
-              "the sign. OpenVDB: `tools::meshToLevelSet` on the same lattice, voxel size and band, read with "
-              "`tools::BoxSampler`, its normal the normalized gradient of that trilinear field. Errors in voxels and "
-              "degrees; the last column counts points outside the mesh whose normal is more than 90 degrees off "
-              "(it would push a particle into the surface).\n\n",
-              double(kBandVoxels), count);
-  std::printf("| mesh | field | distance median | p99 | max | normal median | p99 | max | outside, > 90 deg |\n");
-  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf(
+      "`bunny00.off` and `fandisk.off` baked at resolution 64 with the band of a 3-voxel-per-step design "
+      "speed (%.2f voxels), bricked. %zu points per mesh, uniform over the box, kept where the true distance "
+      "is within the guaranteed reach of the surface. Truth: the closest point on the original triangles "
+      "(Embree) for distance and normal (the direction from the closest point, outwards), ray parity for "
+      "the sign. OpenVDB: `tools::meshToLevelSet` on the same lattice, voxel size and band, read with "
+      "`tools::BoxSampler`, its normal the normalized gradient of that trilinear field. Errors in voxels and "
+      "degrees. *Largest overestimate*: how far the field's distance rises above the true one (a field "
+      "that never overestimates cannot let a step walk through the surface). The last column counts points "
+      "outside the mesh whose normal is more than 90 degrees off (it would push a particle into the surface).\n\n",
+      double(kBandVoxels), count);
+  std::printf(
+      "| mesh | field | distance median | p99 | max | largest overestimate | normal median | p99 | max | outside, > "
+      "90 deg |\n");
+  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int m = 0; m < 2; ++m)
     for (const Row& r : results[m].rows)
       printRow(names[m], r);

@@ -34,13 +34,18 @@ std::vector<SubjectSpec> subjects() {
       {"fandisk.off", nullptr, "fandisk", true, NormalMode::kExact},
       {"blade.off", nullptr, "blade", false, NormalMode::kPotential},
       {"blade.off", nullptr, "blade", false, NormalMode::kNormalBlur},
+      {"blade.off", nullptr, "blade", false, NormalMode::kExact},
       {"", thinPlate, "", true, NormalMode::kNormalBlur},
+      {"", thinPlate, "", true, NormalMode::kExact},
       {"", thinPlate, "", true, NormalMode::kPotential},
       {"", concaveNotch, "", true, NormalMode::kNormalBlur},
       {"", concaveNotch, "", true, NormalMode::kExact},
       {"", rodsAndFins, "", true, NormalMode::kNormalBlur},
+      {"", rodsAndFins, "", true, NormalMode::kExact},
       {"", hollowBox, "", true, NormalMode::kNormalBlur},
+      {"", hollowBox, "", true, NormalMode::kExact},
       {"", closeFins, "", true, NormalMode::kNormalBlur},
+      {"", closeFins, "", true, NormalMode::kExact},
   };
 }
 
