@@ -186,25 +186,31 @@ TEST(NoField, OutsideTheGridOrNotFiniteOrEmptyView) {
   EXPECT_EQ(View().sample({0, 0, 0}).status, SampleStatus::kNoField);
 }
 
+// Every encoding and interpolation the batch dispatches to once gives what single queries give.
 TEST(Batch, StridedBatchEqualsSingleQueries) {
   const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
-  const Opened opened = openOrDie(format::encodeBricked(analytic::sampleField(sceneGrid(), sphere), {}, ""));
-  const View& view = opened.view;
-  struct Particle {
-    float position[3];
-    float payload; // makes the stride 16 bytes
-  };
-  std::vector<Particle> particles;
-  for (const Vec3f& p : analytic::randomPoints({-21, -21, -21}, {21, 21, 21}, 5000, 3))
-    particles.push_back({{p.x, p.y, p.z}, 1.0f});
-  for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
-    std::vector<Sample> out(particles.size());
-    view.sampleBatch(particles[0].position, sizeof(Particle), particles.size(), out.data(), mode);
-    for (std::size_t n = 0; n < particles.size(); ++n) {
-      const Sample one =
-          view.sample({particles[n].position[0], particles[n].position[1], particles[n].position[2]}, mode);
-      ASSERT_EQ(out[n].status, one.status);
-      ASSERT_EQ(out[n].distance, one.distance);
+  const DenseField field = analytic::sampleField(sceneGrid(), sphere);
+  for (const bool dense : {false, true}) {
+    SCOPED_TRACE(dense ? "dense" : "bricked");
+    const Opened opened = openOrDie(dense ? format::encodeDense(field, "") : format::encodeBricked(field, {}, ""));
+    const View& view = opened.view;
+    struct Particle {
+      float position[3];
+      float payload; // makes the stride 16 bytes
+    };
+    std::vector<Particle> particles;
+    for (const Vec3f& p : analytic::randomPoints({-21, -21, -21}, {21, 21, 21}, 5000, 3))
+      particles.push_back({{p.x, p.y, p.z}, 1.0f});
+    for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+      std::vector<Sample> out(particles.size());
+      view.sampleBatch(particles[0].position, sizeof(Particle), particles.size(), out.data(), mode);
+      for (std::size_t n = 0; n < particles.size(); ++n) {
+        const Sample one =
+            view.sample({particles[n].position[0], particles[n].position[1], particles[n].position[2]}, mode);
+        ASSERT_EQ(out[n].status, one.status);
+        ASSERT_EQ(out[n].distance, one.distance);
+        ASSERT_EQ(out[n].normal.x, one.normal.x);
+      }
     }
   }
 }
@@ -289,7 +295,7 @@ TEST(Writer, ReportsProgressAndStopsWhenAsked) {
     Log halfway;
     halfway.stop_after = 0.5;
     const EncodeResult stopped = encode(&halfway);
-    EXPECT_EQ(stopped.error, "cancelled");
+    EXPECT_EQ(stopped.code, format::EncodeError::kCancelled);
     EXPECT_TRUE(stopped.bytes.empty());
     EXPECT_LT(halfway.fractions.size(), all.fractions.size());
   }
@@ -339,12 +345,14 @@ TEST(Writer, RefusesFieldsItCannotWrite) {
   for (const DenseField* f : {&nan_field, &short_field, &zero_dim, &bad_voxel}) {
     const EncodeResult dense = format::encodeDense(*f, "");
     EXPECT_FALSE(dense.ok());
+    EXPECT_EQ(dense.code, format::EncodeError::kInvalidField);
     EXPECT_TRUE(dense.bytes.empty());
     EXPECT_FALSE(format::encodeBricked(*f, {}, "").ok());
   }
   BrickOptions odd;
   odd.brick_size = 5;
   const EncodeResult refused = format::encodeBricked(field, odd, "");
+  EXPECT_EQ(refused.code, format::EncodeError::kInvalidOptions);
   EXPECT_NE(refused.error.find("brick size"), std::string::npos);
 }
 

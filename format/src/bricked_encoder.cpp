@@ -240,7 +240,7 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);
     if (result.stats.brick_tiles >= kMaxPoolBricks) {
-      result.error = "too many bricks for one file (the pool index has 30 bits)";
+      result.fail(EncodeError::kTooLarge, "too many bricks for one file (the pool index has 30 bits)");
       return result;
     }
     const auto first_brick = std::uint32_t(pool.size() >> (3 * grid.brick_log2));
@@ -266,8 +266,8 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
                            const EncodeHooks& hooks) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
-  result.error = checkGeometry(g);
-  if (result.ok()) result.error = checkOptions(options);
+  result.fail(EncodeError::kInvalidGeometry, checkGeometry(g));
+  result.fail(EncodeError::kInvalidOptions, checkOptions(options));
   if (!result.ok()) return result;
 
   const std::uint32_t log2 = options.brick_size == 4 ? 2 : options.brick_size == 8 ? 3 : 4;
@@ -290,17 +290,16 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
     layers[z].pool = std::move(e.pool);
     layers[z].stats = e.stats;
   });
-  if (!finished) result.error = "cancelled";
-  for (const Layer& layer : layers) {
-    if (result.ok() && !layer.error.empty()) result.error = layer.error; // the first bad layer, whatever the threads
-  }
+  if (!finished) result.fail(EncodeError::kCancelled, "cancelled");
+  for (const Layer& layer : layers)
+    result.fail(EncodeError::kInvalidField, layer.error); // the first bad layer, whatever the threads
   if (!result.ok()) return result;
   return joinLayers(grid, std::move(layers), metadata_json);
 }
 
 EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options, std::string_view metadata_json) {
   EncodeResult result;
-  result.error = checkField(field);
+  result.fail(EncodeError::kInvalidField, checkField(field));
   return result.ok() ? encodeBricked(DenseSource(field), options, metadata_json) : result;
 }
 

@@ -2,11 +2,13 @@
 //
 // A View does not own memory. Create it with View::open() over bytes that stay alive and unchanged
 // for as long as the View is used (dng::File owns a mapped file and hands out its View). Opening
-// validates the whole structure once (docs/FORMAT.md §6), in time proportional to the top table;
-// after that every query is const, thread-safe, allocation-free and defined for every input.
+// validates the whole structure once (docs/FORMAT.md §6): for a bricked file in time proportional
+// to its top table (every tile entry is checked), for a dense file to its voxel count (every voxel is
+// checked for finiteness). After that every query is const, thread-safe, allocation-free and defined for every input.
 #pragma once
 
 #include "dng/format/layout.h"
+#include "dng/format/limits.h"
 #include "dng/format/vec3.h"
 #include "dng/status.h"
 
@@ -83,7 +85,7 @@ public:
   /// Distance from the surface (local units) within which nearest queries are guaranteed to answer
   /// kInBand with a normal: band - sqrt(3)/2 * voxel_size, because a point belongs to its voxel and
   /// the voxel counts as far when its centre is. A particle system's design speed is this reach / dt.
-  float guaranteedReach() const { return grid_.band - 0.8660254f * grid_.voxel_size; }
+  float guaranteedReach() const { return grid_.band - format::kHalfCubeDiagonal * grid_.voxel_size; }
 
   const GridInfo& grid() const { return grid_; }
   const TileCounts& tileCounts() const { return tiles_; }
