@@ -151,10 +151,10 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                {"band", g.band},
                {"band_voxels", g.voxel_size > 0 ? g.band / g.voxel_size : 0.0f}};
   const dng::format::EncodeStats& e = r.encode;
-  j["encoder"] = {{"far_outside_tiles", e.far_outside_tiles},
-                  {"far_inside_tiles", e.far_inside_tiles},
-                  {"plane_tiles", e.plane_tiles},
-                  {"brick_tiles", e.brick_tiles},
+  j["encoder"] = {{"far_outside_tiles", e.tiles.far_outside},
+                  {"far_inside_tiles", e.tiles.far_inside},
+                  {"plane_tiles", e.tiles.plane},
+                  {"brick_tiles", e.tiles.brick},
                   {"band_voxels", e.band_voxels},
                   {"max_distance_error_voxels", e.max_distance_error_voxels},
                   {"max_normal_error_degrees", e.max_normal_error_deg},

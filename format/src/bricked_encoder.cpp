@@ -176,16 +176,16 @@ bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
       e.stats.band_voxels += inBand(e, v) ? 1 : 0;
     if (!tryFarTile(e, box, &entry)) {
       if (tryPlaneTile(e, box, brick, &entry)) {
-        ++e.stats.plane_tiles;
+        ++e.stats.tiles.plane;
       } else {
         entry = writeBrick(e, box);
-        ++e.stats.brick_tiles;
+        ++e.stats.tiles.brick;
       }
     }
   }
   const TileKind kind = entryKind(entry);
-  if (kind == TileKind::kFarOutside) ++e.stats.far_outside_tiles;
-  if (kind == TileKind::kFarInside) ++e.stats.far_inside_tiles;
+  if (kind == TileKind::kFarOutside) ++e.stats.tiles.far_outside;
+  if (kind == TileKind::kFarInside) ++e.stats.tiles.far_inside;
   e.top.push_back(entry);
   return true;
 }
@@ -223,10 +223,10 @@ struct Layer {
 };
 
 void addStats(const EncodeStats& layer, EncodeStats* total) {
-  total->far_outside_tiles += layer.far_outside_tiles;
-  total->far_inside_tiles += layer.far_inside_tiles;
-  total->plane_tiles += layer.plane_tiles;
-  total->brick_tiles += layer.brick_tiles;
+  total->tiles.far_outside += layer.tiles.far_outside;
+  total->tiles.far_inside += layer.tiles.far_inside;
+  total->tiles.plane += layer.tiles.plane;
+  total->tiles.brick += layer.tiles.brick;
   total->band_voxels += layer.band_voxels;
   total->max_distance_error_voxels = std::max(total->max_distance_error_voxels, layer.max_distance_error_voxels);
   total->max_normal_error_deg = std::max(total->max_normal_error_deg, layer.max_normal_error_deg);
@@ -239,7 +239,7 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   std::vector<std::uint32_t> pool;
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);
-    if (result.stats.brick_tiles >= kMaxPoolBricks) {
+    if (result.stats.tiles.brick >= kMaxPoolBricks) {
       result.fail(EncodeError::kTooLarge, "too many bricks for one file (the pool index has 30 bits)");
       return result;
     }

@@ -7,6 +7,7 @@
 // checked for finiteness). After that every query is const, thread-safe, allocation-free and defined for every input.
 #pragma once
 
+#include "dng/format/dense_field.h"
 #include "dng/format/layout.h"
 #include "dng/format/limits.h"
 #include "dng/format/vec3.h"
@@ -38,12 +39,10 @@ struct Sample {
   SampleStatus status = SampleStatus::kNoField;
 };
 
-/// Grid geometry as decoded from the GRID section.
-struct GridInfo {
-  Vec3f origin; ///< minimum corner, grid-local frame
-  float voxel_size = 0.0f;
-  std::uint32_t dims[3] = {};
-  float band = 0.0f;
+/// The GRID section as decoded: the placement the writer was given (format::GridGeometry: origin, voxel
+/// size, dims, band, the same type and helpers) plus what the encoding added. The writer's input stays
+/// encoding-free because the encoding and its brick options are chosen per encode (BrickOptions).
+struct GridInfo : format::GridGeometry {
   format::Encoding encoding = format::Encoding::kDense;
   std::uint32_t brick_size = 0; ///< 0 for dense
   std::uint32_t brick_dims[3] = {};
@@ -51,13 +50,8 @@ struct GridInfo {
   float tolerance_normal_deg = 0.0f; ///< bricked: degrees
 };
 
-/// Tile counts of a bricked file (all zero for dense), counted once at open.
-struct TileCounts {
-  std::uint64_t far_outside = 0;
-  std::uint64_t far_inside = 0;
-  std::uint64_t plane = 0;
-  std::uint64_t brick = 0;
-};
+/// Tile counts of a bricked file (all zero for dense), counted once at open: the encoder's type.
+using TileCounts = format::TileCounts;
 
 class View {
 public:

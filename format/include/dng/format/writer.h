@@ -61,10 +61,7 @@ struct BrickOptions {
 /// What an encoder wrote and the largest error it let through, measured over in-band voxels
 /// (|distance| < band) by decoding what it wrote at each voxel centre.
 struct EncodeStats {
-  std::uint64_t far_outside_tiles = 0;
-  std::uint64_t far_inside_tiles = 0;
-  std::uint64_t plane_tiles = 0;
-  std::uint64_t brick_tiles = 0;
+  TileCounts tiles; ///< all zero for dense
   std::uint64_t band_voxels = 0;
   float max_distance_error_voxels = 0.0f;
   float max_normal_error_deg = 0.0f;
