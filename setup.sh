@@ -128,6 +128,23 @@ cmd_runtime_only() {
     -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON \
     -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON
   run_tests "$ROOT/build/runtime-only"
+  check_embedding
+}
+
+# An engine that embeds dngrid with add_subdirectory gets format and runtime only, and keeps its own
+# (here: empty) CMAKE_BUILD_TYPE. Configure-only: a few seconds.
+check_embedding() {
+  local parent="$ROOT/build/embed"
+  mkdir -p "$parent"
+  printf 'cmake_minimum_required(VERSION 3.25)\nproject(engine C CXX)\nadd_subdirectory(%s dngrid)\n' "$ROOT" \
+    > "$parent/CMakeLists.txt"
+  cmake -S "$parent" -B "$parent/build" -G Ninja >/dev/null
+  if grep -qE 'dng_baker|dngdump|dngbake|gtest' "$parent/build/build.ninja"; then
+    log "embedded with add_subdirectory, dngrid builds more than format and runtime"; exit 1
+  fi
+  if grep -q '^CMAKE_BUILD_TYPE:STRING=.' "$parent/build/CMakeCache.txt"; then
+    log "embedded with add_subdirectory, dngrid set the parent's CMAKE_BUILD_TYPE"; exit 1
+  fi
 }
 
 cmd_format_check() {
