@@ -349,6 +349,9 @@ SceneStats runDemo(const View& field, int up, const RunOptions& o) {
   Swarm swarm;
   const SceneStats stats = runScene(setup, &swarm, trails.recorder());
   trails.write();
+  if (o.final_positions != nullptr)
+    for (std::size_t n = 0; n < swarm.size(); ++n)
+      o.final_positions->push_back(swarm.position(n));
   return stats;
 }
 
