@@ -105,7 +105,9 @@ TEST_P(BakeSign, ExactModeDistancesAndSignsMatchBruteForce) {
       // concave facets. Inside, values only have to stay negative and are rounded to the nearest code.
       ASSERT_LE(s.distance, std::max(truth, 0.0f) + 1e-5f * h) << c.x << " " << c.y << " " << c.z;
       ASSERT_NEAR(s.distance, truth, 0.25f * h) << c.x << " " << c.y << " " << c.z;
-      if (inside) ASSERT_LT(s.distance, 0.0f);
+      if (inside) {
+        ASSERT_LT(s.distance, 0.0f);
+      }
     }
   }
 }
@@ -265,7 +267,9 @@ TEST_F(BakeTest, PlanesBoundTheTrueDistanceAnywhereInTheirCells) {
         ++checked;
         const float truth =
             testing::bruteDistance(shape.mesh, p) * (testing::bruteWinding(shape.mesh, p) > 0.5 ? -1.0f : 1.0f);
-        if (s.distance >= 0.0f) ASSERT_LE(s.distance, truth + 1e-4f * g.voxel_size) << p.x << " " << p.y << " " << p.z;
+        if (s.distance >= 0.0f) {
+          ASSERT_LE(s.distance, truth + 1e-4f * g.voxel_size) << p.x << " " << p.y << " " << p.z;
+        }
       }
       EXPECT_EQ(checked, 2000);
     }
