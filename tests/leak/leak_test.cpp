@@ -220,6 +220,18 @@ TEST_F(LeakCase, FandiskSpinning) {
   expectNoVisibleLeak(run(*s, spec));
 }
 
+// Exact normals at fandisk's sharp creases: where the full table (docs/LEAKS.md) last found crossings.
+TEST_F(LeakCase, FandiskExactSpinningAndResting) {
+  const Subject* s = subject("fandisk", baker::NormalMode::kExact);
+  ASSERT_NE(s, nullptr);
+  CaseSpec spinning{"spinning impact"};
+  spinning.motion = Motion::kSpinning;
+  expectNoVisibleLeak(run(*s, spinning));
+  CaseSpec resting{"resting under gravity"};
+  resting.start = Start::kResting;
+  expectNoVisibleLeak(run(*s, resting));
+}
+
 TEST_F(LeakCase, FandiskSweptAtTenTimesTheDesignSpeed) {
   const Subject* s = subject("fandisk", baker::NormalMode::kNormalBlur);
   ASSERT_NE(s, nullptr);
