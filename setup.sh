@@ -5,11 +5,13 @@
 #   bash setup.sh demo           bake the Stanford bunny, check it, run particles, write pictures to out/
 #   bash setup.sh deps           only install the Debian packages the project needs
 #   bash setup.sh asan           build and test with AddressSanitizer + UndefinedBehaviorSanitizer
+#   bash setup.sh tsan           build and test the runtime with ThreadSanitizer (no baker)
+#   bash setup.sh determinism    bake one mesh with --threads 1 and --threads 2, compare the bytes
 #   bash setup.sh runtime-only   build and test format + runtime with the baker and its libraries off
 #   bash setup.sh format-check   check clang-format on every source file
 #   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
 #   bash setup.sh leaks          run the full leak table (particles judged on the triangles), write docs/LEAKS.md
-#   bash setup.sh fuzz [SECONDS] fuzz the .dng loader (default 60 s) and replay the mesh regressions
+#   bash setup.sh fuzz [SECONDS] fuzz the loader (default 60 s) and dngdump (half that), replay regressions
 #   bash setup.sh fuzz-meshes [SECONDS]  fuzz mesh loading, open-ended (default 300 s)
 #
 # Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
@@ -75,6 +77,48 @@ cmd_asan() {
     run_tests "$ROOT/build/asan"
 }
 
+# The runtime's threaded tests (shared fields and bodies) under ThreadSanitizer. The baker is left out:
+# TBB's own synchronisation is not visible to ThreadSanitizer in Debian's build and would be reported.
+cmd_tsan() {
+  install_packages "${PACKAGES_BUILD[@]}" libgtest-dev libgmock-dev
+  configure_and_build "$ROOT/build/tsan" -DCMAKE_BUILD_TYPE=TSan -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TOOLS=OFF \
+    -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF -DDNG_BUILD_TESTS=ON
+  if ! grep -q " __tsan_" <(nm "$ROOT/build/tsan/tests/particles_test"); then
+    log "the TSan build is not instrumented"; exit 1
+  fi
+  TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 run_tests "$ROOT/build/tsan"
+}
+
+# A torus as OBJ on stdout (no data download needed): rings x sides quads, split into triangles.
+write_torus_obj() {
+  awk -v rings=96 -v sides=48 'BEGIN {
+    pi = 3.14159265358979
+    for (i = 0; i < rings; i++) for (j = 0; j < sides; j++) {
+      u = 2 * pi * i / rings; v = 2 * pi * j / sides
+      printf "v %.6f %.6f %.6f\n", (1 + 0.35 * cos(v)) * cos(u), (1 + 0.35 * cos(v)) * sin(u), 0.35 * sin(v)
+    }
+    for (i = 0; i < rings; i++) for (j = 0; j < sides; j++) {
+      a = i * sides + j + 1; b = ((i + 1) % rings) * sides + j + 1
+      c = ((i + 1) % rings) * sides + (j + 1) % sides + 1; d = i * sides + (j + 1) % sides + 1
+      printf "f %d %d %d\nf %d %d %d\n", a, b, c, a, c, d
+    }
+  }'
+}
+
+# The baker's promise that the output never depends on the thread count, checked on the real program.
+cmd_determinism() {
+  local bake="$ROOT/build/release/tools/dngbake" dir="$ROOT/build/determinism"
+  [ -x "$bake" ] || { log "build first: bash setup.sh test"; exit 1; }
+  mkdir -p "$dir"
+  write_torus_obj > "$dir/torus.obj"
+  for mode in normal-blur potential; do
+    "$bake" "$dir/torus.obj" -o "$dir/one.dng" --mode "$mode" --resolution 160 --threads 1 --quiet
+    "$bake" "$dir/torus.obj" -o "$dir/two.dng" --mode "$mode" --resolution 160 --threads 2 --quiet
+    cmp "$dir/one.dng" "$dir/two.dng" || { log "$mode: --threads 1 and --threads 2 differ"; exit 1; }
+  done
+  log "determinism: --threads 1 and 2 give the same bytes"
+}
+
 # The runtime must not need any baker library: make CMake unable to find them, and make sure no
 # format/ or runtime/ source includes their headers (which are installed on this machine).
 cmd_runtime_only() {
@@ -87,6 +131,23 @@ cmd_runtime_only() {
     -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON \
     -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON
   run_tests "$ROOT/build/runtime-only"
+  check_embedding
+}
+
+# An engine that embeds dngrid with add_subdirectory gets format and runtime only, and keeps its own
+# (here: empty) CMAKE_BUILD_TYPE. Configure-only: a few seconds.
+check_embedding() {
+  local parent="$ROOT/build/embed"
+  mkdir -p "$parent"
+  printf 'cmake_minimum_required(VERSION 3.25)\nproject(engine C CXX)\nadd_subdirectory(%s dngrid)\n' "$ROOT" \
+    > "$parent/CMakeLists.txt"
+  cmake -S "$parent" -B "$parent/build" -G Ninja >/dev/null
+  if grep -qE 'dng_baker|dngdump|dngbake|gtest' "$parent/build/build.ninja"; then
+    log "embedded with add_subdirectory, dngrid builds more than format and runtime"; exit 1
+  fi
+  if grep -q '^CMAKE_BUILD_TYPE:STRING=.' "$parent/build/CMakeCache.txt"; then
+    log "embedded with add_subdirectory, dngrid set the parent's CMAKE_BUILD_TYPE"; exit 1
+  fi
 }
 
 cmd_format_check() {
@@ -96,7 +157,7 @@ cmd_format_check() {
   log "clang-format: clean"
 }
 
-# The sample meshes come from Debian's libcgal-demo (DESIGN.md §8) and are never committed.
+# The sample meshes come from Debian's libcgal-demo (docs/DESIGN.md §9) and are never committed.
 fetch_data() {
   install_packages libcgal-demo
   mkdir -p "$ROOT/data"
@@ -112,15 +173,18 @@ build_fuzzers() {
     -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF
 }
 
-# libFuzzer on View::open, seeded with the golden files; fails on any crash or sanitizer report. Then
-# every mesh input that once crashed, hung or exhausted memory in OpenMesh's readers, which must now be
-# refused cleanly. (Open-ended mesh fuzzing keeps finding new reader bugs: that is `fuzz-meshes`.)
+# libFuzzer on View::open, then on dngdump's report path, seeded with the golden files and every file
+# that once crashed dngdump; fails on any crash or sanitizer report. Then every mesh input that once
+# crashed, hung or exhausted memory in OpenMesh's readers, which must now be refused cleanly.
+# (Open-ended mesh fuzzing keeps finding new reader bugs: that is `fuzz-meshes`.)
 cmd_fuzz() {
   build_fuzzers
-  local build="$ROOT/build/fuzz" corpus="$ROOT/build/fuzz/corpus"
+  local build="$ROOT/build/fuzz" corpus="$ROOT/build/fuzz/corpus" seconds="${1:-60}"
   mkdir -p "$corpus"
-  cp "$ROOT"/tests/golden/*.dng "$corpus/"
-  "$build/tests/fuzz/fuzz_open" -max_total_time="${1:-60}" -max_len=65536 -print_final_stats=1 "$corpus"
+  cp "$ROOT"/tests/golden/*.dng "$ROOT"/tests/fuzz/dump_regressions/* "$corpus/"
+  "$build/tests/fuzz/fuzz_dump" "$ROOT"/tests/fuzz/dump_regressions/*
+  "$build/tests/fuzz/fuzz_open" -max_total_time="$seconds" -max_len=65536 -print_final_stats=1 "$corpus"
+  "$build/tests/fuzz/fuzz_dump" -max_total_time="$((seconds / 2))" -max_len=65536 -timeout=10 -print_final_stats=1 "$corpus"
   "$build/tests/fuzz/fuzz_mesh" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/mesh_regressions/*
 }
 
@@ -168,10 +232,10 @@ cmd_demo() {
   local mesh="$ROOT/data/data/meshes/bunny00.off" dng="$out/demo/bunny.dng"
   local t0 t1
   t0=$(date +%s.%N)
-  "$build/baker/dngbake" "$mesh" -o "$dng" --resolution 128 --quiet
+  "$build/tools/dngbake" "$mesh" -o "$dng" --resolution 128 --quiet
   t1=$(date +%s.%N)
-  "$build/baker/dngdump" "$dng" --check
-  "$build/baker/dngdump" "$dng" --slice z=0 --png "$out/demo/bunny_field_slice.png"
+  "$build/tools/dngdump" "$dng" --check
+  "$build/tools/dngdump" "$dng" --slice z=0 --png "$out/demo/bunny_field_slice.png"
   local stats
   stats=$("$build/samples/dng_demo" "$dng" "$out/demo" y "$out/demo/final_positions.txt") # bunny00.off is y-up
   echo "$stats" > "$out/demo/stats.json"
@@ -183,7 +247,7 @@ cmd_demo() {
   "$build/samples/dng_fig6_sphere_flow" "$out/figures" > "$out/figures/fig6.json"
   "$build/samples/dng_fig7_shaft_flow" "$out/figures" > "$out/figures/fig7.json"
   "$build/samples/dng_fig8_explosion" "$out/figures" > "$out/figures/fig8.json"
-  "$build/baker/dngbake" "$ROOT/data/data/meshes/blade.off" -o "$out/figures/blade.dng" --mode potential --quiet
+  "$build/tools/dngbake" "$ROOT/data/data/meshes/blade.off" -o "$out/figures/blade.dng" --mode potential --quiet
   "$build/samples/dng_thin_sheet" "$out/figures/blade.dng" "$out/figures" > "$out/figures/thin_sheet.json"
 
   local inside rate bytes
@@ -205,6 +269,8 @@ case "${1:-}" in
   deps) deps ;;
   test) cmd_test ;;
   asan) cmd_asan ;;
+  tsan) cmd_tsan ;;
+  determinism) cmd_determinism ;;
   runtime-only) cmd_runtime_only ;;
   format-check) cmd_format_check ;;
   bench) cmd_bench ;;
@@ -212,5 +278,5 @@ case "${1:-}" in
   fuzz) cmd_fuzz "${2:-60}" ;;
   fuzz-meshes) cmd_fuzz_meshes "${2:-300}" ;;
   demo) cmd_demo ;;
-  *) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
+  *) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
 esac

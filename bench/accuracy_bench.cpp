@@ -5,9 +5,9 @@
 // checks View::guaranteedReach(): every point that close to the surface must read in band.
 //   accuracy_bench MESH_DIR [POINTS_PER_MESH]   (markdown on stdout, for docs/PERFORMANCE.md)
 #include "accuracy_vdb.h"
-#include "baker.h"
 #include "dng/file.h"
 #include "mesh_reference.h"
+#include "stages.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

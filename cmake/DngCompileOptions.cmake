@@ -1,11 +1,13 @@
-# Warnings for every dngrid target, and the ASan build type (AddressSanitizer +
-# UndefinedBehaviorSanitizer) used by CI: cmake -DCMAKE_BUILD_TYPE=ASan.
+# Warnings for every dngrid target, and the sanitizer build types CI uses: cmake -DCMAKE_BUILD_TYPE=ASan
+# (AddressSanitizer + UndefinedBehaviorSanitizer) or -DCMAKE_BUILD_TYPE=TSan (ThreadSanitizer).
 #
 # The sanitizer flags are attached with generator expressions rather than CMAKE_CXX_FLAGS_ASAN: CMake
 # creates that cache entry (empty) as soon as the build type is named, so a cached default never lands.
 set(DNG_SANITIZE_FLAGS -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all)
 add_compile_options("$<$<CONFIG:ASan>:${DNG_SANITIZE_FLAGS}>")
 add_link_options("$<$<CONFIG:ASan>:-fsanitize=address,undefined>")
+add_compile_options("$<$<CONFIG:TSan>:-O1;-g;-fno-omit-frame-pointer;-fsanitize=thread>")
+add_link_options("$<$<CONFIG:TSan>:-fsanitize=thread>")
 
 # dng_target_warnings(<target>): -Wall -Wextra and friends; -Werror when DNG_WERROR is on.
 function(dng_target_warnings target)

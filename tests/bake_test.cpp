@@ -1,8 +1,8 @@
 // The baker end to end: procedural meshes baked, read back through the runtime, compared with an
 // independent brute-force reference; bad input through the real dngbake program.
-#include "baker.h"
 #include "dng/file.h"
 #include "dng/format/xxhash64.h"
+#include "stages.h"
 #include "test_meshes.h"
 
 #include "run_program.h"
@@ -115,13 +115,66 @@ TEST_P(BakeSign, ExactModeDistancesAndSignsMatchBruteForce) {
 INSTANTIATE_TEST_SUITE_P(WindingAndPseudonormal, BakeSign,
                          ::testing::Values(SignMode::kWinding, SignMode::kPseudonormal, SignMode::kAuto));
 
+// Every option's bad values are refused by checkBakeOptions before bake() touches the input: the input
+// here does not exist, so any later check would have reported kIo instead.
+TEST_F(BakeTest, EveryBadOptionIsRefusedBeforeAnyWork) {
+  struct Case {
+    const char* names;
+    void (*spoil)(BakeOptions&);
+  };
+  const Case cases[] = {
+      {"--voxel-size", [](BakeOptions& o) { o.voxel_size = -1.0f; }},
+      {"--voxel-size", [](BakeOptions& o) { o.voxel_size = NAN; }},
+      {"--voxel-size", [](BakeOptions& o) { o.voxel_size = INFINITY; }},
+      {"--resolution", [](BakeOptions& o) { o.resolution = kMinResolution - 1; }},
+      {"--resolution", [](BakeOptions& o) { o.resolution = kMaxBakeAxisVoxels + 1; }},
+      {"--band", [](BakeOptions& o) { o.band_voxels = 0.5f; }},
+      {"--band", [](BakeOptions& o) { o.band_voxels = NAN; }},
+      {"--band", [](BakeOptions& o) { o.band_voxels = INFINITY; }},
+      {"--max-speed and --dt", [](BakeOptions& o) { o.max_speed = 3.0f; }},
+      {"--max-speed and --dt", [](BakeOptions& o) { o.dt = 0.1f; }},
+      {"--max-speed and --dt", [](BakeOptions& o) { o.max_speed = -1.0f, o.dt = 0.1f; }},
+      {"--max-speed and --dt", [](BakeOptions& o) { o.max_speed = INFINITY, o.dt = 0.1f; }},
+      {"--max-speed and --dt", [](BakeOptions& o) { o.max_speed = 1.0f, o.dt = NAN; }},
+      {"--mode", [](BakeOptions& o) { o.mode = NormalMode(7); }},
+      {"--blur-radius", [](BakeOptions& o) { o.blur_radius = 0; }},
+      {"--blur-radius", [](BakeOptions& o) { o.blur_radius = kMaxBlurRadius + 1; }},
+      {"--blur-rounds", [](BakeOptions& o) { o.blur_rounds = kMaxBlurRounds + 1; }},
+      {"--sign", [](BakeOptions& o) { o.sign = SignMode(9); }},
+      {"--encoding", [](BakeOptions& o) { o.encoding = format::Encoding(2); }},
+      {"--brick-size", [](BakeOptions& o) { o.brick.brick_size = 5; }},
+      {"--brick-size", [](BakeOptions& o) { o.brick.brick_size = 32; }},
+      {"--tolerance", [](BakeOptions& o) { o.brick.tolerance_distance = -1.0f; }},
+      {"--tolerance", [](BakeOptions& o) { o.brick.tolerance_distance = NAN; }},
+      {"--tolerance", [](BakeOptions& o) { o.brick.tolerance_distance = INFINITY; }},
+      {"normal tolerance", [](BakeOptions& o) { o.brick.tolerance_normal_deg = -1.0f; }},
+      {"normal tolerance", [](BakeOptions& o) { o.brick.tolerance_normal_deg = 181.0f; }},
+  };
+  for (const Case& c : cases) {
+    BakeOptions options;
+    c.spoil(options);
+    SCOPED_TRACE(c.names);
+    EXPECT_EQ(checkBakeOptions(options).code, BakeError::kBadOption);
+    BakeReport report;
+    const BakeStatus status = bake(path("absent.obj"), {path("out.dng"), {}}, options, nullptr, nullptr, &report);
+    EXPECT_EQ(status.code, BakeError::kBadOption) << status.message;
+    EXPECT_NE(status.message.find(c.names), std::string::npos) << status.message;
+    EXPECT_TRUE(report.stage_seconds.empty()) << "a stage ran";
+  }
+  EXPECT_TRUE(checkBakeOptions(BakeOptions()).ok());
+  BakeOptions exact; // the blur options do not matter when nothing is blurred
+  exact.mode = NormalMode::kExact;
+  exact.blur_radius = 0;
+  EXPECT_TRUE(checkBakeOptions(exact).ok());
+}
+
 TEST_F(BakeTest, PseudonormalSignRefusesOpenMeshes) {
   testing::writeObj(testing::withoutFace(testing::boxMesh({0, 0, 0}, {1, 1, 1}), 2), path("open.obj"));
   BakeOptions options = exactOptions();
   options.sign = SignMode::kPseudonormal;
   BakeReport report;
   const BakeStatus status = bake(path("open.obj"), {path("open.dng"), {}}, options, nullptr, nullptr, &report);
-  EXPECT_EQ(status.code, ExitCode::kInvalidInput);
+  EXPECT_EQ(status.code, BakeError::kInvalidInput);
   EXPECT_NE(status.message.find("closed manifold"), std::string::npos) << status.message;
   EXPECT_FALSE(fs::exists(path("open.dng")));
 }
@@ -331,7 +384,7 @@ TEST_F(BakeTest, ProgressReportsWithinStagesAndCancelStopsTheBake) {
     cancelling.cancel_in = stage;
     const BakeStatus status =
         bake(path("sphere.obj"), {path("cut.dng"), {}}, options, &Recorder::record, &cancelling, &report);
-    EXPECT_EQ(status.message, "cancelled");
+    EXPECT_EQ(status.code, BakeError::kCancelled);
     EXPECT_LT(cancelling.count(stage), full.count(stage));
     EXPECT_FALSE(fs::exists(path("cut.dng")));
   }
@@ -417,6 +470,13 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("good.obj") + " --resolution 2000 --encoding dense", 1, "at most 134,217,728"},
       {path("good.obj") + " --voxel-size 0.0001", 1, "at most 2048"},
       {path("good.obj") + " --band 2 --max-speed 3 --dt 0.1", 1, "excludes"},
+      // Option values are checked before the mesh is read: these once failed late or with exit 4.
+      {path("absent.obj") + " --tolerance -1", 1, "--tolerance"},
+      {path("absent.obj") + " --blur-radius 0", 1, "--blur-radius"},
+      {path("absent.obj") + " --blur-rounds 1000", 1, "--blur-rounds"},
+      {path("absent.obj") + " --band 0.5", 1, "--band"},
+      {path("absent.obj") + " --voxel-size -2", 1, "--voxel-size"},
+      {path("absent.obj") + " --brick-size 5", 1, "--brick-size"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
@@ -448,16 +508,89 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
   EXPECT_EQ(testing::readFile(path("kept.dng")), "previous contents");
 }
 
-// Ctrl-C stops a bake at its next progress report with exit code 130 and leaves the previous output.
-TEST_F(BakeTest, InterruptStopsTheBakeAndKeepsThePreviousOutput) {
+// Shell lines that start dngbake in the background as $pid and wait until it has installed its SIGINT
+// handler (bit 2 of SigCgt in /proc): a signal before that would kill it the default way.
+std::string startDngbake(const std::string& args) {
+  return std::string(DNG_DNGBAKE_PATH) + " " + args + " & pid=$!; " +
+         "until m=$(grep ^SigCgt /proc/$pid/status 2>/dev/null | cut -f2) && [ -n \"$m\" ] && (( 0x$m & 2 )); do "
+         "kill -0 $pid 2>/dev/null || break; done; ";
+}
+
+// Ctrl-C before the writes stops the bake at its next progress report: exit 130, the message and the
+// JSON report agree that nothing was written, and the previous output is still there.
+TEST_F(BakeTest, InterruptBeforeTheWritesStopsTheBakeAndKeepsThePreviousOutput) {
   testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 64, 32), path("slow.obj"));
   std::ofstream(path("slow.dng")) << "previous contents";
-  // Resolution 400 takes seconds; the interrupt comes after half a second, once loading is done.
-  const ProgramRun run = testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + path("slow.obj") + " -o " +
-                                             path("slow.dng") + " --resolution 400 --quiet & pid=$!; sleep 0.5; " +
-                                             "kill -INT $pid; wait $pid; echo \"status $?\"");
+  // The signal lands while the mesh loads or soon after: the first progress report ends the bake.
+  const ProgramRun run = testing::runProgram(
+      "bash -c '" +
+      startDngbake(path("slow.obj") + " -o " + path("slow.dng") + " --resolution 400 --json 2>" + path("stderr.txt")) +
+      "kill -INT $pid; wait $pid; echo \"status $?\"'");
   EXPECT_NE(run.output.find("status 130"), std::string::npos) << run.output;
+  const std::string json = run.output.substr(0, run.output.rfind("status"));
+  const nlohmann::json report = nlohmann::json::parse(json, nullptr, false);
+  ASSERT_FALSE(report.is_discarded()) << run.output;
+  EXPECT_EQ(report["ok"], false);
+  EXPECT_EQ(report["error"]["exit_code"], 130);
+  EXPECT_NE(testing::readFile(path("stderr.txt")).find("interrupted; " + path("slow.dng") + " was not written"),
+            std::string::npos);
   EXPECT_EQ(testing::readFile(path("slow.dng")), "previous contents");
+}
+
+// A signal that arrives once the writes have begun (here during --export-vdb, which comes first) does
+// not stop them: the bake finishes and says so. Exit 0, "ok": true, no "interrupted", both files whole.
+TEST_F(BakeTest, InterruptDuringTheWritesFinishesAndReportsSuccess) {
+  testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 64, 32), path("late.obj"));
+  int landed = 0;
+  for (int attempt = 0; attempt < 5 && landed == 0; ++attempt) {
+    fs::remove(path("late.dng"));
+    fs::remove(path("late.vdb"));
+    // Wait for the .vdb's temporary file, then interrupt; "sent" only if the process was still running.
+    const ProgramRun run = testing::runProgram(
+        "bash -c '" +
+        startDngbake(path("late.obj") + " -o " + path("late.dng") + " --export-vdb " + path("late.vdb") +
+                     " --resolution 160 --json 2>" + path("stderr.txt")) +
+        "until compgen -G \"" + path("late.vdb") + ".tmp.*\" >/dev/null; do kill -0 $pid 2>/dev/null || break; done; " +
+        "kill -INT $pid 2>/dev/null && echo sent >&2; wait $pid; echo \"status $?\"' 2>" + path("sent.txt"));
+    if (testing::readFile(path("sent.txt")).find("sent") == std::string::npos) continue; // too late: again
+    ++landed;
+    EXPECT_NE(run.output.find("status 0"), std::string::npos) << run.output;
+    const nlohmann::json report =
+        nlohmann::json::parse(run.output.substr(0, run.output.rfind("status")), nullptr, false);
+    ASSERT_FALSE(report.is_discarded()) << run.output;
+    EXPECT_EQ(report["ok"], true);
+    EXPECT_EQ(testing::readFile(path("stderr.txt")).find("interrupted"), std::string::npos);
+    File file;
+    ASSERT_EQ(File::open(path("late.dng").c_str(), &file), Status::kOk);
+    EXPECT_EQ(file.view().verifyHashes(), Status::kOk);
+    EXPECT_TRUE(fs::exists(path("late.vdb")));
+  }
+  EXPECT_EQ(landed, 1) << "the signal never arrived during the writes in 5 attempts";
+}
+
+// SIGKILL cannot be handled: the output path must still hold the previous good file or nothing, never
+// a partial one, whenever the kill lands. Bakes killed at a spread of moments, repeatedly.
+TEST_F(BakeTest, KillingTheBakeNeverLeavesAPartialOutput) {
+  testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 48, 24), path("kill.obj"));
+  const std::string bake_args = path("kill.obj") + " -o " + path("kill.dng") + " --resolution 64 --quiet";
+  ASSERT_EQ(testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + bake_args).exit_code, 0);
+  std::mt19937 random(11);
+  int killed = 0;
+  for (int round = 0; round < 12; ++round) {
+    // Busy-loop steps before the kill, spread from "while loading" to about a second (past the write
+    // on an idle machine), with jitter: ~5 us a step.
+    const int spin = round * 16000 + std::uniform_int_distribution<int>(0, 16000)(random);
+    const ProgramRun run =
+        testing::runProgram("bash -c '" + std::string(DNG_DNGBAKE_PATH) + " " + bake_args + " --tolerance 0.0" +
+                            std::to_string(round % 5) + " & pid=$!; for ((i = 0; i < " + std::to_string(spin) +
+                            "; i++)); do :; done; kill -KILL $pid 2>/dev/null && echo killed; "
+                            "wait $pid; true'");
+    killed += run.output.find("killed") != std::string::npos ? 1 : 0;
+    File file;
+    ASSERT_EQ(File::open(path("kill.dng").c_str(), &file), Status::kOk) << "round " << round;
+    ASSERT_EQ(file.view().verifyHashes(), Status::kOk) << "round " << round;
+  }
+  EXPECT_GT(killed, 0) << "no bake was killed while running";
 }
 
 TEST_F(BakeTest, ProgramReportsJsonAndVersion) {

@@ -1,6 +1,6 @@
 // The baker's sparse working store (band_grid.h): it holds exactly the band, signs everything else
 // by flood fill, never hints a brick wrongly, and its blur gives what blurring the whole grid gives.
-#include "baker.h"
+#include "stages.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -262,7 +262,7 @@ TEST(GridLimits, OnlyDenseFilesAreCappedInVoxels) {
   EXPECT_GT(grid.voxelCount(), std::size_t(1) << 27);
   options.encoding = format::Encoding::kDense;
   const BakeStatus dense = placeGrid(mesh, options, &grid, &warnings);
-  EXPECT_EQ(dense.code, ExitCode::kUsage);
+  EXPECT_EQ(dense.code, BakeError::kBadOption);
   EXPECT_NE(dense.message.find("dense"), std::string::npos) << dense.message;
 }
 

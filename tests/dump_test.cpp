@@ -7,10 +7,12 @@
 #include "temp_dir.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <png.h>
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -33,13 +35,16 @@ ProgramRun dngdump(const std::string& dir, const std::string& args, bool with_st
   return {run.exit_code, run.output};
 }
 
+// DNG_UPDATE_GOLDEN=1 rewrites a golden file that differs, and the test still fails: a rewritten
+// golden is a change to review and commit, never a pass.
 void compareWithGoldenText(const std::string& name, const std::string& actual) {
   const std::string path = testing::goldenPath(name.c_str());
-  if (std::getenv("DNG_UPDATE_GOLDEN") != nullptr) {
+  const std::string expected = testing::readFile(path);
+  EXPECT_EQ(actual, expected) << "differs from " << path;
+  if (actual != expected && std::getenv("DNG_UPDATE_GOLDEN") != nullptr) {
     std::ofstream(path) << actual;
-    return;
+    ADD_FAILURE() << "rewrote " << path << ": review it, commit it and run the test again";
   }
-  EXPECT_EQ(actual, testing::readFile(path)) << "differs from " << path;
 }
 
 class DumpTest : public ::testing::Test {
@@ -83,7 +88,8 @@ TEST_F(DumpTest, CheckPassesGoodFilesAndNamesTheBrokenRule) {
   testing::writeFileBytes(dir_ + "/short.dng", truncated);
   run = dngdump(dir_, "short.dng --check", true);
   EXPECT_EQ(run.exit_code, 3);
-  EXPECT_NE(run.out.find("error V8 (file truncated)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("error V8 (file truncated): file is truncated: header says"), std::string::npos) << run.out;
+  EXPECT_EQ(run.out.find("V8:"), std::string::npos) << "the rule ID is printed once: " << run.out;
   run = dngdump(dir_, "short.dng", true); // every command refuses a broken file the same way
   EXPECT_EQ(run.exit_code, 3);
 
@@ -177,12 +183,139 @@ TEST_F(DumpTest, SliceIsAPictureWithTheContourWhereTheSurfaceIs) {
 }
 
 TEST_F(DumpTest, StatsCountTheBand) {
+  View view;
+  ASSERT_EQ(View::open(bytes_.data(), bytes_.size(), &view), Status::kOk);
+  const GridInfo& g = view.grid();
+  std::uint64_t band = 0, total = 0;
+  for (std::uint32_t k = 0; k < g.dims[2]; ++k)
+    for (std::uint32_t j = 0; j < g.dims[1]; ++j)
+      for (std::uint32_t i = 0; i < g.dims[0]; ++i, ++total) {
+        const Vec3f centre = g.origin + Vec3f{float(i) + 0.5f, float(j) + 0.5f, float(k) + 0.5f} * g.voxel_size;
+        band += view.sample(centre).status == SampleStatus::kInBand ? 1 : 0;
+      }
+  ASSERT_GT(band, 0u);
+  ASSERT_LT(band, total);
+
   const ProgramRun run = dngdump(dir_, "box.dng --stats --json");
-  EXPECT_EQ(run.exit_code, 0);
-  EXPECT_NE(run.out.find("\"band_coverage\""), std::string::npos);
-  EXPECT_NE(run.out.find("neighbour_normal_deviation_degrees"), std::string::npos);
+  ASSERT_EQ(run.exit_code, 0);
+  const nlohmann::json stats = nlohmann::json::parse(run.out);
+  EXPECT_EQ(stats["format"], "dngdump-stats");
+  EXPECT_DOUBLE_EQ(stats["band_coverage"].get<double>(), double(band) / double(total));
+  EXPECT_FLOAT_EQ(stats["distance_histogram"]["from"].get<float>(), -g.band);
+  EXPECT_FLOAT_EQ(stats["distance_histogram"]["to"].get<float>(), g.band);
+  std::uint64_t histogram_total = 0; // every voxel centre in band lands in exactly one bin
+  for (const auto& count : stats["distance_histogram"]["counts"])
+    histogram_total += count.get<std::uint64_t>();
+  EXPECT_EQ(histogram_total, band);
+  std::uint64_t pairs = 0;
+  for (const auto& count : stats["neighbour_normal_deviation_degrees"]["counts"])
+    pairs += count.get<std::uint64_t>();
+  EXPECT_GT(pairs, 0u);
+  EXPECT_LE(pairs, 3 * band); // at most one pair per axis per band voxel
+
   const ProgramRun text = dngdump(dir_, "box.dng --stats");
-  EXPECT_NE(text.out.find("band coverage: "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("of " + std::to_string(total) + " voxels"), std::string::npos) << text.out;
+}
+
+// The summary's JSON twin holds the runtime's numbers, not only the right key names.
+TEST_F(DumpTest, JsonReportHoldsTheFilesNumbers) {
+  View view;
+  ASSERT_EQ(View::open(bytes_.data(), bytes_.size(), &view), Status::kOk);
+  const ProgramRun run = dngdump(dir_, "box.dng --json");
+  ASSERT_EQ(run.exit_code, 0);
+  const nlohmann::json report = nlohmann::json::parse(run.out);
+  EXPECT_EQ(report["encoding"], "bricked");
+  EXPECT_EQ(report["dims"], nlohmann::json::array({24, 24, 24}));
+  EXPECT_EQ(report["file_bytes"].get<std::size_t>(), bytes_.size());
+  EXPECT_EQ(report["tiles"]["brick"].get<std::uint64_t>(), view.tileCounts().brick);
+  EXPECT_EQ(report["tiles"]["plane"].get<std::uint64_t>(), view.tileCounts().plane);
+  EXPECT_FLOAT_EQ(report["guaranteed_reach"].get<float>(), view.guaranteedReach());
+  EXPECT_EQ(report["metadata"]["test"], "small bricked box");
+}
+
+// Exactly one mode runs; an option that belongs to a mode is refused without it.
+TEST_F(DumpTest, ModesExcludeEachOtherAndTheirOptionsNeedThem) {
+  std::ofstream(dir_ + "/points.txt") << "0 0 0\n";
+  for (const char* args : {"--check --query --stats", "--check --stats", "--query --stats", "--check --query",
+                           "--stats --slice z=0 --png s.png", "--query --json", "--slice z=0 --png s.png --json",
+                           "--points points.txt", "--trilinear", "--scale 4", "--png s.png"}) {
+    const ProgramRun run = dngdump(dir_, std::string("box.dng ") + args, true);
+    EXPECT_EQ(run.exit_code, 1) << args << ": " << run.out;
+  }
+  EXPECT_FALSE(fs::exists(dir_ + "/s.png"));
+  EXPECT_EQ(dngdump(dir_, "box.dng --query --points points.txt --trilinear").exit_code, 0);
+  EXPECT_EQ(dngdump(dir_, "box.dng --check --json").exit_code, 0);
+  EXPECT_EQ(dngdump(dir_, "box.dng --stats --json").exit_code, 0);
+}
+
+// Metadata is untrusted text: not UTF-8, nested deeper than any serializer's stack, or terminal
+// escapes. Every mode handles every file View::open accepts (these once aborted dngdump).
+TEST_F(DumpTest, EveryModeSurvivesUntrustedMetadata) {
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  const struct {
+    const char* name;
+    std::string metadata;
+  } files[] = {{"not_utf8.dng", "{\"tool\":\"\xff\xfe\xc3(\"}"},
+               {"not_json_not_utf8.dng", "\x80\x81 plain bytes \xff"},
+               {"deep.dng", deep},
+               {"escape.dng", "\x1b[2J\x1b]0;title\x07"}};
+  std::ofstream(dir_ + "/points.txt") << "0 0 0\n1 2 3\n";
+  for (const auto& file : files) {
+    SCOPED_TRACE(file.name);
+    testing::writeFileBytes(dir_ + "/" + file.name, testing::smallBrickedBox(file.metadata));
+    for (const char* mode : {"", "--json", "--stats", "--stats --json", "--check", "--check --json",
+                             "--query --points points.txt", "--slice z=0.5 --png slice.png"}) {
+      const ProgramRun run = dngdump(dir_, std::string(file.name) + " " + mode, true);
+      EXPECT_EQ(run.exit_code, 0) << mode << ": " << run.out;
+    }
+    const ProgramRun summary = dngdump(dir_, file.name);
+    EXPECT_NE(summary.out.find("  metadata   \""), std::string::npos) << "kept as a quoted string: " << summary.out;
+    EXPECT_EQ(summary.out.find('\x1b'), std::string::npos) << "escapes reach the terminal";
+    const ProgramRun json = dngdump(dir_, std::string(file.name) + " --json");
+    const nlohmann::json report = nlohmann::json::parse(json.out, nullptr, false);
+    ASSERT_FALSE(report.is_discarded()) << json.out.substr(0, 200);
+    EXPECT_TRUE(report["metadata"].is_string());
+  }
+}
+
+// A finding quotes the file's bytes (here a section tag): --json must still print valid JSON.
+TEST_F(DumpTest, FindingsQuotingUntrustedBytesStayValidJson) {
+  auto damaged = bytes_;
+  const std::size_t at = testing::entryOffset(damaged, format::kTagBrickPool);
+  const std::uint8_t tag[4] = {0xff, 0xfe, 0x80, 0x81}; // unknown, required, not UTF-8
+  std::memcpy(damaged.data() + at, tag, 4);
+  format::resealHashes(damaged);
+  testing::writeFileBytes(dir_ + "/tag.dng", damaged);
+  for (const char* mode : {"--json", "--check --json", "--stats --json"}) {
+    const ProgramRun run = dngdump(dir_, std::string("tag.dng ") + mode);
+    EXPECT_EQ(run.exit_code, 3) << mode;
+    const nlohmann::json finding = nlohmann::json::parse(run.out, nullptr, false);
+    ASSERT_FALSE(finding.is_discarded()) << run.out;
+    EXPECT_EQ(finding["valid"], false);
+    EXPECT_EQ(finding["findings"][0]["id"], "V11");
+  }
+}
+
+// A grid may be 2^24 voxels long: the slice it would need is refused, not allocated.
+TEST_F(DumpTest, SliceOfAHugeGridIsRefusedNotAllocated) {
+  format::GridGeometry grid;
+  grid.origin = {0, 0, 0};
+  grid.voxel_size = 1.0f;
+  grid.dims[0] = 1u << 16;
+  grid.dims[1] = 16;
+  grid.dims[2] = 1;
+  grid.band = 2.0f;
+  format::DenseField far;
+  far.grid = grid;
+  far.distance.assign(grid.voxelCount(), 5.0f);
+  far.normal.assign(grid.voxelCount(), Vec3f{});
+  const format::EncodeResult encoded = format::encodeBricked(far, {}, "");
+  ASSERT_TRUE(encoded.ok()) << encoded.error;
+  testing::writeFileBytes(dir_ + "/long.dng", encoded.bytes);
+  const ProgramRun run = dngdump(dir_, "long.dng --slice z=0.5 --png long.png", true);
+  EXPECT_EQ(run.exit_code, 5) << run.out;
+  EXPECT_NE(run.out.find("exceeds 16384 pixels"), std::string::npos) << run.out;
+  EXPECT_FALSE(fs::exists(dir_ + "/long.png"));
 }
 
 } // namespace

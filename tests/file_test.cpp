@@ -1,4 +1,5 @@
 // dng::File: mapping real files, reporting I/O failures, ownership.
+#include "dng/body.h"
 #include "dng/file.h"
 #include "sample_files.h"
 
@@ -7,8 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <utility>
+#include <vector>
 
 namespace dng {
 namespace {
@@ -65,8 +68,40 @@ TEST_F(FileTest, MissingEmptyDirectoryAndDamagedFiles) {
   bytes.resize(bytes.size() - 1);
   testing::writeFileBytes(path("short.dng"), bytes);
   EXPECT_EQ(File::open(path("short.dng").c_str(), &file, &diag), Status::kTruncated);
+  EXPECT_STREQ(diag.rule, "V8"); // the rule as its own field, not parsed out of the message
+  EXPECT_EQ(std::strstr(diag.message, "V8"), nullptr) << diag.message;
   EXPECT_FALSE(file.valid());
+  EXPECT_EQ(File::open(path("empty.dng").c_str(), &file, &diag), Status::kTruncated);
+  EXPECT_STREQ(diag.rule, "V3");
+  EXPECT_EQ(File::open(path("absent.dng").c_str(), &file, &diag), Status::kIoError);
+  EXPECT_STREQ(diag.rule, "") << "I/O failures break no file rule";
   EXPECT_EQ(File::open(nullptr, &file), Status::kInvalidArgument);
+}
+
+// Bodies point at a File's View: growing a std::vector<File> moves every File, and the bodies made
+// from them must keep answering (under ASan a dangling View is a use-after-free).
+TEST_F(FileTest, BodiesKeepWorkingWhenTheirFilesMove) {
+  testing::writeFileBytes(path("box.dng"), testing::smallBrickedBox());
+  std::vector<File> files;
+  std::vector<Body> bodies;
+  std::vector<const View*> views;
+  for (int n = 0; n < 40; ++n) { // reallocates the vector several times
+    files.emplace_back();
+    ASSERT_EQ(File::open(path("box.dng").c_str(), &files.back()), Status::kOk);
+    Body body;
+    ASSERT_EQ(Body::create(&files.back().view(), Material(), &body), Status::kOk);
+    bodies.push_back(body);
+    views.push_back(&files.back().view());
+  }
+  for (std::size_t n = 0; n < files.size(); ++n) {
+    EXPECT_EQ(bodies[n].field(), &files[n].view()) << n;
+    EXPECT_EQ(views[n], &files[n].view()) << n;
+    EXPECT_EQ(bodies[n].field()->sample({6.0f, 0.0f, 0.0f}).status, SampleStatus::kInBand) << n;
+  }
+  File moved = std::move(files[3]);
+  EXPECT_EQ(&moved.view(), views[3]);
+  EXPECT_FALSE(files[3].valid());
+  EXPECT_FALSE(files[3].view().valid()); // an empty File hands out an empty View, never a dangling one
 }
 
 TEST_F(FileTest, FailedOpenReleasesWhatTheFileHeldBefore) {

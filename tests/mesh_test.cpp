@@ -1,5 +1,5 @@
 // Baker stage 1-2: loading meshes with OpenMesh into a soup, and the mesh checks.
-#include "baker.h"
+#include "stages.h"
 
 #include "temp_dir.h"
 
@@ -153,7 +153,7 @@ TEST_F(MeshTest, UnusableMeshesAreRefusedWithInvalidInput) {
   nan_soup.vertices = {{0, 0, 0}, {1, 0, 0}, {NAN, 1, 0}};
   nan_soup.triangles = {{0, 1, 2}};
   const BakeStatus nan_status = requireBakeable(checkMesh(nan_soup));
-  EXPECT_EQ(nan_status.code, ExitCode::kInvalidInput);
+  EXPECT_EQ(nan_status.code, BakeError::kInvalidInput);
   EXPECT_NE(nan_status.message.find("NaN"), std::string::npos);
 
   TriangleSoup flat;
@@ -161,38 +161,38 @@ TEST_F(MeshTest, UnusableMeshesAreRefusedWithInvalidInput) {
   flat.triangles = {{0, 1, 2}, {1, 2, 3}, {0, 0, 1}};
   const MeshReport r = checkMesh(flat);
   EXPECT_EQ(r.degenerate_triangles, 3u);
-  EXPECT_EQ(requireBakeable(r).code, ExitCode::kInvalidInput);
+  EXPECT_EQ(requireBakeable(r).code, BakeError::kInvalidInput);
 
   const TriangleSoup empty = load(write("empty.obj", ""));
   const BakeStatus empty_status = requireBakeable(checkMesh(empty));
-  EXPECT_EQ(empty_status.code, ExitCode::kInvalidInput);
+  EXPECT_EQ(empty_status.code, BakeError::kInvalidInput);
   EXPECT_NE(empty_status.message.find("no faces"), std::string::npos);
 }
 
 TEST_F(MeshTest, FilesThatCannotBeReadSayWhy) {
   TriangleSoup soup;
   BakeStatus s = loadMesh((dir_ / "absent.obj").string(), &soup);
-  EXPECT_EQ(s.code, ExitCode::kIo);
+  EXPECT_EQ(s.code, BakeError::kIo);
   EXPECT_NE(s.message.find("absent.obj"), std::string::npos);
   s = loadMesh(write("mesh.fbx", "not supported"), &soup);
-  EXPECT_EQ(s.code, ExitCode::kUnsupported);
+  EXPECT_EQ(s.code, BakeError::kUnsupported);
   EXPECT_NE(s.message.find(".fbx"), std::string::npos);
   fs::create_directories(dir_ / "folder.obj");
-  EXPECT_EQ(loadMesh((dir_ / "folder.obj").string(), &soup).code, ExitCode::kIo);
+  EXPECT_EQ(loadMesh((dir_ / "folder.obj").string(), &soup).code, BakeError::kIo);
   // OpenMesh alone spins on this header for over a minute, then throws.
   s = loadMesh(write("broken.ply", "ply\nformat ascii 1.0\nelement vertex banana\nend_header\n"), &soup);
-  EXPECT_EQ(s.code, ExitCode::kInvalidInput) << s.message;
+  EXPECT_EQ(s.code, BakeError::kInvalidInput) << s.message;
   EXPECT_NE(s.message.find("element vertex banana"), std::string::npos);
   s = loadMesh(write("huge.ply", "ply\nformat ascii 1.0\nelement vertex 99999999999\nend_header\n"), &soup);
-  EXPECT_EQ(s.code, ExitCode::kInvalidInput) << s.message;
+  EXPECT_EQ(s.code, BakeError::kInvalidInput) << s.message;
   s = loadMesh(write("headless.ply", "ply\nformat ascii 1.0\n"), &soup);
-  EXPECT_EQ(s.code, ExitCode::kInvalidInput) << s.message;
+  EXPECT_EQ(s.code, BakeError::kInvalidInput) << s.message;
   // Files naming OFF must be OFF: OpenMesh's reader accepts a mangled magic and then reads garbage counts.
   s = loadMesh(write("garbage.off", "this is not an OFF file at all\n"), &soup);
-  EXPECT_EQ(s.code, ExitCode::kInvalidInput) << s.message;
+  EXPECT_EQ(s.code, BakeError::kInvalidInput) << s.message;
   EXPECT_NE(s.message.find("is not OFF"), std::string::npos) << s.message;
   s = loadMesh(write("unrelated.off", "nothing to see here\n"), &soup);
-  EXPECT_EQ(s.code, ExitCode::kIo) << s.message; // no OFF magic at all: OpenMesh refuses it
+  EXPECT_EQ(s.code, BakeError::kIo) << s.message; // no OFF magic at all: OpenMesh refuses it
 }
 
 TEST_F(MeshTest, FaceIndicesOutOfRangeAreSkippedAndCounted) {

@@ -298,6 +298,49 @@ TEST(Verify, SectionHashesAreCheckedOnlyWhenAsked) {
   EXPECT_EQ(View().verifyHashes(), Status::kInvalidArgument);
 }
 
+// The padding between sections is zero (FORMAT.md §2); no hash covers it, so V18 checks it byte by byte.
+TEST(Verify, NonZeroPaddingIsDamage) {
+  const Bytes clean = testing::smallBrickedBox();
+  const auto meta = entryOf(clean, format::kTagMetadata);
+  const auto top = entryOf(clean, format::kTagBrickTop);
+  ASSERT_LT(meta.offset + meta.size, top.offset) << "the test needs a gap after META";
+  for (std::uint64_t at : {meta.offset + meta.size, top.offset - 1}) {
+    Bytes file = clean;
+    file[at] = 0x20;
+    View view;
+    ASSERT_EQ(View::open(file.data(), file.size(), &view), Status::kOk);
+    Diagnostic diag;
+    EXPECT_EQ(view.verifyHashes(&diag), Status::kNonZeroPadding) << at;
+    EXPECT_STREQ(diag.rule, "V18");
+    EXPECT_NE(std::string(diag.message).find(std::to_string(at)), std::string::npos) << diag.message;
+  }
+}
+
+// Each failure names its FORMAT.md rule in Diagnostic::rule, the same ID dngdump prints.
+TEST(Reject, DiagnosticsNameTheirRule) {
+  const Bytes good = testing::smallBrickedBox();
+  const auto ruleOf = [](const Bytes& bytes) {
+    View view;
+    Diagnostic diag;
+    EXPECT_NE(View::open(bytes.data(), bytes.size(), &view, &diag), Status::kOk);
+    return std::string(diag.rule);
+  };
+  Bytes magic = good;
+  magic[1] = 'X';
+  EXPECT_EQ(ruleOf(magic), "V4");
+  EXPECT_EQ(ruleOf(Bytes(good.begin(), good.end() - 1)), "V8");
+  EXPECT_EQ(ruleOf(withGrid(good, [](GridSection& g) { g.voxel_size = -1.0f; })), "V12");
+  Bytes pool = good;
+  pool[entryOf(pool, format::kTagBrickPool).offset] ^= 1;
+  View view;
+  ASSERT_EQ(View::open(pool.data(), pool.size(), &view), Status::kOk);
+  Diagnostic diag;
+  EXPECT_EQ(view.verifyHashes(&diag), Status::kSectionHashMismatch);
+  EXPECT_STREQ(diag.rule, "V17");
+  EXPECT_EQ(View::open(nullptr, 0, nullptr, &diag), Status::kInvalidArgument);
+  EXPECT_STREQ(diag.rule, "") << "a bad argument breaks no file rule";
+}
+
 // A cheap deterministic fuzz pass: random byte flips with resealed hashes. Whatever open() says,
 // nothing may crash, and a view that opens must answer every query with finite or "no field".
 TEST(Fuzz, RandomDamageNeverBreaksQueries) {

@@ -124,11 +124,16 @@ TEST(PlaneTiles, PlanarFieldNeedsNoBricksAndQueriesStayExact) {
   const AnalyticField plane = analytic::planeField({0.3f, -0.2f, 1.0f}, 1.5f);
   const Opened opened = openOrDie(format::encodeBricked(analytic::sampleField(sceneGrid(), plane), {}, ""));
   const format::EncodeStats& stats = opened.file.stats;
-  EXPECT_EQ(stats.brick_tiles, 0u);
-  EXPECT_GT(stats.plane_tiles, 0u);
-  EXPECT_GT(stats.far_outside_tiles, 0u);
-  EXPECT_GT(stats.far_inside_tiles, 0u);
-  EXPECT_EQ(opened.view.tileCounts().plane, stats.plane_tiles);
+  EXPECT_EQ(stats.tiles.brick, 0u);
+  EXPECT_GT(stats.tiles.plane, 0u);
+  EXPECT_GT(stats.tiles.far_outside, 0u);
+  EXPECT_GT(stats.tiles.far_inside, 0u);
+  // The reader counts with the encoder's type: what was written is what is read.
+  const TileCounts& read = opened.view.tileCounts();
+  EXPECT_EQ(read.plane, stats.tiles.plane);
+  EXPECT_EQ(read.far_outside, stats.tiles.far_outside);
+  EXPECT_EQ(read.far_inside, stats.tiles.far_inside);
+  EXPECT_EQ(read.total(), stats.tiles.total());
   EXPECT_EQ(opened.view.tileCounts().brick, 0u);
   for (const Vec3f& p : pointsNearSurface(plane, kInBandReach, 2000)) {
     const Sample s = opened.view.sample(p);
@@ -186,25 +191,31 @@ TEST(NoField, OutsideTheGridOrNotFiniteOrEmptyView) {
   EXPECT_EQ(View().sample({0, 0, 0}).status, SampleStatus::kNoField);
 }
 
+// Every encoding and interpolation the batch dispatches to once gives what single queries give.
 TEST(Batch, StridedBatchEqualsSingleQueries) {
   const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
-  const Opened opened = openOrDie(format::encodeBricked(analytic::sampleField(sceneGrid(), sphere), {}, ""));
-  const View& view = opened.view;
-  struct Particle {
-    float position[3];
-    float payload; // makes the stride 16 bytes
-  };
-  std::vector<Particle> particles;
-  for (const Vec3f& p : analytic::randomPoints({-21, -21, -21}, {21, 21, 21}, 5000, 3))
-    particles.push_back({{p.x, p.y, p.z}, 1.0f});
-  for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
-    std::vector<Sample> out(particles.size());
-    view.sampleBatch(particles[0].position, sizeof(Particle), particles.size(), out.data(), mode);
-    for (std::size_t n = 0; n < particles.size(); ++n) {
-      const Sample one =
-          view.sample({particles[n].position[0], particles[n].position[1], particles[n].position[2]}, mode);
-      ASSERT_EQ(out[n].status, one.status);
-      ASSERT_EQ(out[n].distance, one.distance);
+  const DenseField field = analytic::sampleField(sceneGrid(), sphere);
+  for (const bool dense : {false, true}) {
+    SCOPED_TRACE(dense ? "dense" : "bricked");
+    const Opened opened = openOrDie(dense ? format::encodeDense(field, "") : format::encodeBricked(field, {}, ""));
+    const View& view = opened.view;
+    struct Particle {
+      float position[3];
+      float payload; // makes the stride 16 bytes
+    };
+    std::vector<Particle> particles;
+    for (const Vec3f& p : analytic::randomPoints({-21, -21, -21}, {21, 21, 21}, 5000, 3))
+      particles.push_back({{p.x, p.y, p.z}, 1.0f});
+    for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+      std::vector<Sample> out(particles.size());
+      view.sampleBatch(particles[0].position, sizeof(Particle), particles.size(), out.data(), mode);
+      for (std::size_t n = 0; n < particles.size(); ++n) {
+        const Sample one =
+            view.sample({particles[n].position[0], particles[n].position[1], particles[n].position[2]}, mode);
+        ASSERT_EQ(out[n].status, one.status);
+        ASSERT_EQ(out[n].distance, one.distance);
+        ASSERT_EQ(out[n].normal.x, one.normal.x);
+      }
     }
   }
 }
@@ -255,10 +266,8 @@ TEST(Writer, BrickedIsMuchSmallerThanDenseOnASphere) {
   EXPECT_LT(bricked.bytes.size() * 4, dense.bytes.size());
   // The payload is exactly 8 bytes per tile plus 4 bytes per pooled voxel: nothing else hides in it.
   const std::uint64_t tiles = 8 * 8 * 8; // 64^3 voxels in bricks of 8
-  EXPECT_EQ(bricked.stats.payload_bytes, 8 * tiles + 4 * 512 * bricked.stats.brick_tiles);
-  EXPECT_EQ(bricked.stats.far_outside_tiles + bricked.stats.far_inside_tiles + bricked.stats.plane_tiles +
-                bricked.stats.brick_tiles,
-            tiles);
+  EXPECT_EQ(bricked.stats.payload_bytes, 8 * tiles + 4 * 512 * bricked.stats.tiles.brick);
+  EXPECT_EQ(bricked.stats.tiles.total(), tiles);
 }
 
 TEST(Writer, ReportsProgressAndStopsWhenAsked) {
@@ -289,7 +298,7 @@ TEST(Writer, ReportsProgressAndStopsWhenAsked) {
     Log halfway;
     halfway.stop_after = 0.5;
     const EncodeResult stopped = encode(&halfway);
-    EXPECT_EQ(stopped.error, "cancelled");
+    EXPECT_EQ(stopped.code, format::EncodeError::kCancelled);
     EXPECT_TRUE(stopped.bytes.empty());
     EXPECT_LT(halfway.fractions.size(), all.fractions.size());
   }
@@ -317,9 +326,9 @@ TEST(Writer, ParallelPiecesGiveTheSameBytes) {
     const EncodeResult parallel = format::encodeBricked(format::DenseSource(field), options, "{}", threaded);
     ASSERT_TRUE(serial.ok() && parallel.ok());
     EXPECT_EQ(serial.bytes, parallel.bytes) << size;
-    EXPECT_EQ(serial.stats.brick_tiles, parallel.stats.brick_tiles);
+    EXPECT_EQ(serial.stats.tiles.brick, parallel.stats.tiles.brick);
     EXPECT_EQ(serial.stats.max_normal_error_deg, parallel.stats.max_normal_error_deg);
-    EXPECT_GT(serial.stats.brick_tiles, 1u); // several layers hold bricks: the pool indices were moved
+    EXPECT_GT(serial.stats.tiles.brick, 1u); // several layers hold bricks: the pool indices were moved
   }
   EXPECT_EQ(format::encodeDense(format::DenseSource(field), "").bytes,
             format::encodeDense(format::DenseSource(field), "", threaded).bytes);
@@ -339,12 +348,14 @@ TEST(Writer, RefusesFieldsItCannotWrite) {
   for (const DenseField* f : {&nan_field, &short_field, &zero_dim, &bad_voxel}) {
     const EncodeResult dense = format::encodeDense(*f, "");
     EXPECT_FALSE(dense.ok());
+    EXPECT_EQ(dense.code, format::EncodeError::kInvalidField);
     EXPECT_TRUE(dense.bytes.empty());
     EXPECT_FALSE(format::encodeBricked(*f, {}, "").ok());
   }
   BrickOptions odd;
   odd.brick_size = 5;
   const EncodeResult refused = format::encodeBricked(field, odd, "");
+  EXPECT_EQ(refused.code, format::EncodeError::kInvalidOptions);
   EXPECT_NE(refused.error.find("brick size"), std::string::npos);
 }
 

@@ -1,7 +1,7 @@
 // --export-vdb: the grids OpenVDB reads back hold the same field, at the same world positions, as
 // the .dng written by the same bake.
-#include "baker.h"
 #include "dng/file.h"
+#include "stages.h"
 #include "temp_dir.h"
 #include "test_meshes.h"
 

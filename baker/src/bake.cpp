@@ -1,5 +1,6 @@
-// The whole bake (DESIGN.md §4): load, check, place, distance and sign, normals, encode, write.
-#include "baker.h"
+// The whole bake (docs/DESIGN.md §5): options, load, check, place, distance and sign, normals,
+// encode, write.
+#include "stages.h"
 
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
@@ -29,14 +30,14 @@ BakeStatus hashFile(const std::string& path, std::string* out_hex) {
   std::ifstream in(path, std::ios::binary);
   std::unique_ptr<XXH64_state_t, decltype(&XXH64_freeState)> state(XXH64_createState(), &XXH64_freeState);
   if (!in || state == nullptr || XXH64_reset(state.get(), 0) != XXH_OK)
-    return BakeStatus::failure(ExitCode::kIo, "cannot read '" + path + "' to hash it");
+    return BakeStatus::failure(BakeError::kIo, "cannot read '" + path + "' to hash it");
   std::vector<char> chunk(1 << 20);
   while (in) {
     in.read(chunk.data(), std::streamsize(chunk.size()));
     if (XXH64_update(state.get(), chunk.data(), std::size_t(in.gcount())) != XXH_OK)
-      return BakeStatus::failure(ExitCode::kInternal, "hashing '" + path + "' failed");
+      return BakeStatus::failure(BakeError::kInternal, "hashing '" + path + "' failed");
   }
-  if (!in.eof()) return BakeStatus::failure(ExitCode::kIo, "cannot read '" + path + "' to hash it");
+  if (!in.eof()) return BakeStatus::failure(BakeError::kIo, "cannot read '" + path + "' to hash it");
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)XXH64_digest(state.get()));
   *out_hex = hex;
@@ -155,10 +156,11 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   format::EncodeResult encoded = options.encoding == format::Encoding::kDense
                                      ? format::encodeDense(band, meta, hooks)
                                      : format::encodeBricked(band, options.brick, meta, hooks);
-  if (encoded.error == "cancelled") return BakeStatus::cancelled();
-  if (!encoded.ok()) return BakeStatus::failure(ExitCode::kInternal, "encoding failed: " + encoded.error);
+  if (encoded.code == format::EncodeError::kCancelled) return BakeStatus::cancelled();
+  if (!encoded.ok()) return BakeStatus::failure(BakeError::kInternal, "encoding failed: " + encoded.error);
   report->encode = encoded.stats;
   timer.done("encode");
+  // From here on nothing cancels: a bake that starts writing finishes (bake.h), and says so.
 
   if (!outputs.vdb.empty()) {
     if (!(status = exportVdb(band, outputs.vdb)).ok()) return status;
@@ -182,15 +184,17 @@ std::uint64_t peakMemoryBytes() {
 // an OpenVDB or TBB error) leaves no output behind; it only has to become a status instead of an abort.
 BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
                 void* user, BakeReport* report) {
+  // Every option first: a bad value must cost nothing and be reported as the usage error it is.
+  if (BakeStatus checked = checkBakeOptions(options); !checked.ok()) return checked;
   try {
     const BakeStatus status = bakeStages(input, outputs, options, progress, user, report);
     report->peak_memory_bytes = peakMemoryBytes();
     return status;
   } catch (const std::bad_alloc&) {
-    return BakeStatus::failure(ExitCode::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
-                                                    "--resolution or a thinner --band");
+    return BakeStatus::failure(BakeError::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
+                                                     "--resolution or a thinner --band");
   } catch (const std::exception& e) {
-    return BakeStatus::failure(ExitCode::kInternal, std::string("internal error: ") + e.what());
+    return BakeStatus::failure(BakeError::kInternal, std::string("internal error: ") + e.what());
   }
 }
 

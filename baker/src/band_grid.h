@@ -1,4 +1,4 @@
-// The baker's working store (DESIGN.md §4): the band of a DN field as sparse OpenVDB grids, a float
+// The baker's working store (docs/DESIGN.md §5.5): the band of a DN field as sparse OpenVDB grids, a float
 // grid of signed distances and a Vec3s grid of normals sharing one topology of 8^3 leaves. Only the
 // blocks near the surface exist, so memory follows the surface area, not the grid's volume.
 //

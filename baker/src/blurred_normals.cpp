@@ -5,8 +5,8 @@
 // most R voxels along each axis, so after K rounds nothing lies further than R K voxels (max norm)
 // from a surface voxel: blurring on the surface voxels dilated by R K gives exactly what blurring
 // the whole grid would, at the cost of the surface's neighbourhood only.
-#include "baker.h"
 #include "band_grid_vdb.h"
+#include "stages.h"
 
 #include <openvdb/tools/Morphology.h>
 #include <openvdb/tree/LeafManager.h>

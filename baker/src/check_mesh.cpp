@@ -1,6 +1,6 @@
-// Mesh diagnostics (DESIGN.md §4.2): what the user should know about their mesh before baking, and
+// Mesh diagnostics (docs/DESIGN.md §5.3): what the user should know about their mesh before baking, and
 // whether it can be baked at all.
-#include "baker.h"
+#include "stages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -109,12 +109,12 @@ MeshReport checkMesh(const TriangleSoup& soup) {
 }
 
 BakeStatus requireBakeable(const MeshReport& r) {
-  if (r.triangles == 0) return BakeStatus::failure(ExitCode::kInvalidInput, "the mesh has no faces");
+  if (r.triangles == 0) return BakeStatus::failure(BakeError::kInvalidInput, "the mesh has no faces");
   if (r.non_finite_vertices > 0)
-    return BakeStatus::failure(ExitCode::kInvalidInput,
+    return BakeStatus::failure(BakeError::kInvalidInput,
                                std::to_string(r.non_finite_vertices) + " vertices have NaN or infinite coordinates");
   if (r.degenerate_triangles == r.triangles)
-    return BakeStatus::failure(ExitCode::kInvalidInput,
+    return BakeStatus::failure(BakeError::kInvalidInput,
                                "all " + std::to_string(r.triangles) + " triangles are degenerate (zero area)");
   return BakeStatus::success();
 }

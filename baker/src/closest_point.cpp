@@ -1,7 +1,7 @@
 // Closest points on a triangle soup with Embree's BVH (rtcPointQuery): Embree walks the hierarchy
 // and calls us per candidate triangle; we compute the exact closest point and shrink the query
 // radius so the walk prunes everything farther away.
-#include "baker.h"
+#include "stages.h"
 
 #include <embree3/rtcore.h>
 
@@ -75,7 +75,7 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
   impl_ = std::make_unique<Impl>();
   impl_->soup = &soup;
   impl_->device = rtcNewDevice(nullptr);
-  if (impl_->device == nullptr) return BakeStatus::failure(ExitCode::kInternal, "Embree could not create a device");
+  if (impl_->device == nullptr) return BakeStatus::failure(BakeError::kInternal, "Embree could not create a device");
   impl_->scene = rtcNewScene(impl_->device);
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   for (std::uint32_t t = 0; t < soup.triangles.size(); ++t) {
@@ -92,7 +92,7 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
                                                                       impl_->triangle_of_primitive.size()));
   if (vertices == nullptr || indices == nullptr) {
     rtcReleaseGeometry(geometry);
-    return BakeStatus::failure(ExitCode::kInternal, "Embree could not allocate the mesh buffers");
+    return BakeStatus::failure(BakeError::kInternal, "Embree could not allocate the mesh buffers");
   }
   std::memcpy(vertices, soup.vertices.data(), soup.vertices.size() * sizeof(Vec3f));
   for (std::size_t i = 0; i < impl_->triangle_of_primitive.size(); ++i)
@@ -102,7 +102,7 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
   rtcReleaseGeometry(geometry);
   rtcCommitScene(impl_->scene);
   if (rtcGetDeviceError(impl_->device) != RTC_ERROR_NONE)
-    return BakeStatus::failure(ExitCode::kInternal, "Embree failed to build the scene");
+    return BakeStatus::failure(BakeError::kInternal, "Embree failed to build the scene");
   return BakeStatus::success();
 }
 

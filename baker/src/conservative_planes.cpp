@@ -1,6 +1,6 @@
 // Conservative planes: every band voxel's plane lowered until it is a lower bound of the true signed
-// distance over the voxel's whole cell, so that the runtime can prove a path clear (docs/DESIGN.md,
-// "Leak-free steps"; docs/FORMAT.md, "conservative planes").
+// distance over the voxel's whole cell, so that the runtime can prove a path clear (docs/DESIGN.md §10;
+// docs/FORMAT.md, "conservative planes").
 //
 // A voxel (distance d, normal n, centre c) answers d + n . (p - c) anywhere in its cell (paper §3.1's
 // plane refinement). That overestimates the distance wherever the true distance D bends below the
@@ -12,7 +12,7 @@
 //     (n - grad D) . (p - c) <= |n - grad D|_1 h / 2, which is zero for exact normals; grad D comes
 //     from the one-sided differences to the six face neighbours, the worse side per axis.
 // The plane is lowered by the larger bound plus a small allowance, never raised.
-#include "baker.h"
+#include "stages.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -1,4 +1,4 @@
-// Distance, sign and exact normals (DESIGN.md §4.3-4.6, "exact" mode) in the sparse band.
+// Distance, sign and exact normals (docs/DESIGN.md §5.6-5.7, "exact" mode) in the sparse band.
 //
 // 1. Topology: every 8^3 block that a triangle comes within a band of (a triangle/box test against
 //    the block grown by the band) is allocated; nothing else ever is.
@@ -8,7 +8,7 @@
 // 3. BandGrid::finishBand drops blocks with no band voxel and signs everything else by flood fill,
 //    so the winding number is evaluated only near the surface.
 // Each voxel is a pure function of the mesh, so the result does not depend on how TBB splits the work.
-#include "baker.h"
+#include "stages.h"
 #include "triangle_box.h"
 
 #include <tbb/blocked_range.h>

@@ -1,8 +1,8 @@
 // --export-vdb: the baked band as OpenVDB grids, for a look in Houdini or Blender. The working store
 // already is a level set ("distance", background = band) and a normal grid in the right placement,
 // so exporting is writing them.
-#include "baker.h"
 #include "band_grid_vdb.h"
+#include "stages.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -20,13 +20,13 @@ BakeStatus exportVdb(const BandGrid& band, const std::string& path) {
     file.close();
   } catch (const std::exception& e) {
     std::remove(temp.c_str());
-    return BakeStatus::failure(ExitCode::kIo, "cannot write '" + path + "': " + e.what());
+    return BakeStatus::failure(BakeError::kIo, "cannot write '" + path + "': " + e.what());
   }
   std::error_code error;
   std::filesystem::rename(temp, path, error);
   if (error) {
     std::remove(temp.c_str());
-    return BakeStatus::failure(ExitCode::kIo, "cannot replace '" + path + "': " + error.message());
+    return BakeStatus::failure(BakeError::kIo, "cannot replace '" + path + "': " + error.message());
   }
   return BakeStatus::success();
 }

@@ -1,5 +1,6 @@
-// Grid placement (DESIGN.md §4.3): the padded bounding box, the voxel size and the band.
-#include "baker.h"
+// Grid placement (docs/DESIGN.md §5.4): the padded bounding box, the voxel size and the band.
+#include "dng/format/limits.h"
+#include "stages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +10,8 @@ namespace baker {
 
 namespace {
 
-constexpr float kHalfDiagonal = 0.8660254f; // View::guaranteedReach's guard, in voxels
-constexpr float kSpeedMargin = 0.5f;        // extra voxels on top of the travel per step
-constexpr std::uint32_t kMaxAxisVoxels = 2048;
+constexpr float kHalfDiagonal = format::kHalfCubeDiagonal; // View::guaranteedReach's guard, in voxels
+constexpr float kSpeedMargin = 0.5f;                       // extra voxels on top of the travel per step
 // The working store is sparse (memory follows the surface), but a dense file holds 16 bytes per voxel
 // and is built in memory: refuse dense grids over 2^27 voxels (512^3, a 2 GB file) up front.
 constexpr double kMaxDenseVoxels = double(1u << 27);
@@ -22,29 +22,16 @@ float bandVoxels(const BakeOptions& o, float voxel) {
   return o.band_voxels;
 }
 
-BakeStatus checkOptions(const BakeOptions& o) {
-  if (o.voxel_size < 0.0f || !std::isfinite(o.voxel_size))
-    return BakeStatus::failure(ExitCode::kUsage, "--voxel-size must be a positive number");
-  if (o.voxel_size == 0.0f && (o.resolution < 8 || o.resolution > kMaxAxisVoxels))
-    return BakeStatus::failure(ExitCode::kUsage, "--resolution must be between 8 and 2048");
-  if ((o.max_speed > 0.0f) != (o.dt > 0.0f) || !std::isfinite(o.max_speed) || !std::isfinite(o.dt) ||
-      o.max_speed < 0.0f || o.dt < 0.0f)
-    return BakeStatus::failure(ExitCode::kUsage, "--max-speed and --dt go together, both positive");
-  if (!(o.band_voxels >= 1.0f) || !std::isfinite(o.band_voxels))
-    return BakeStatus::failure(ExitCode::kUsage, "--band must be at least 1 voxel");
-  return BakeStatus::success();
-}
-
 } // namespace
 
 BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format::GridGeometry* out,
                      std::vector<std::string>* io_warnings) {
-  BakeStatus status = checkOptions(options);
+  BakeStatus status = checkBakeOptions(options); // for callers other than bake()
   if (!status.ok()) return status;
   const Vec3f extent = mesh.bounds_max - mesh.bounds_min;
   const float longest = std::max({extent.x, extent.y, extent.z});
   if (!(longest > 0.0f) || !std::isfinite(longest))
-    return BakeStatus::failure(ExitCode::kInvalidInput, "the mesh has no extent (all vertices coincide)");
+    return BakeStatus::failure(BakeError::kInvalidInput, "the mesh has no extent (all vertices coincide)");
 
   // The padding depends on the band, which (from a speed) depends on the voxel size: iterate; three
   // rounds settle it to within a voxel.
@@ -55,9 +42,10 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
     if (options.voxel_size > 0.0f) break;
     const float inner = float(options.resolution) - 2.0f * float(pad);
     if (inner < 4.0f)
-      return BakeStatus::failure(ExitCode::kUsage, "the band (" + std::to_string(pad - 1) +
-                                                       " voxels each side) leaves no room in a grid of " +
-                                                       std::to_string(options.resolution) + ": raise --resolution");
+      return BakeStatus::failure(BakeError::kBadOption, "the band (" + std::to_string(pad - 1) +
+                                                            " voxels each side) leaves no room in a grid of " +
+                                                            std::to_string(options.resolution) +
+                                                            ": raise --resolution");
     voxel = longest / inner;
   }
   const float band = bandVoxels(options, voxel);
@@ -70,10 +58,11 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
   for (int a = 0; a < 3; ++a) {
     const float inner = std::ceil(axis_extent[a] / voxel);
     const double dims = double(inner) + 2.0 * pad;
-    if (dims > kMaxAxisVoxels)
-      return BakeStatus::failure(ExitCode::kUsage,
-                                 "the grid would need " + std::to_string(std::uint64_t(dims)) +
-                                     " voxels along one axis (at most 2048): use a larger voxel size");
+    if (dims > kMaxBakeAxisVoxels)
+      return BakeStatus::failure(BakeError::kBadOption, "the grid would need " + std::to_string(std::uint64_t(dims)) +
+                                                            " voxels along one axis (at most " +
+                                                            std::to_string(kMaxBakeAxisVoxels) +
+                                                            "): use a larger voxel size");
     g.dims[a] = std::uint32_t(dims);
     // Centre the mesh in its padded box.
     origin[a] = axis_min[a] - (float(g.dims[a]) * voxel - axis_extent[a]) * 0.5f;
@@ -81,7 +70,7 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
   g.origin = {origin[0], origin[1], origin[2]};
   const double voxels = double(g.dims[0]) * g.dims[1] * g.dims[2];
   if (options.encoding == format::Encoding::kDense && voxels > kMaxDenseVoxels)
-    return BakeStatus::failure(ExitCode::kUsage,
+    return BakeStatus::failure(BakeError::kBadOption,
                                "the grid would have " + std::to_string(std::uint64_t(voxels)) +
                                    " voxels; dense files hold at most 134,217,728 (512^3, 2 GB): use "
                                    "--encoding bricked, a larger --voxel-size or a smaller --resolution");

@@ -3,8 +3,8 @@
 // Why not read into an OpenMesh PolyMesh: its kernel refuses faces that would make an edge
 // non-manifold ("complex edge") and splits non-manifold vertices, so triangles would vanish or move
 // silently. A BaseImporter of our own receives exactly what the file says.
-#include "baker.h"
 #include "reader_guards.h"
+#include "stages.h"
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
@@ -132,11 +132,11 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   const std::string ext = lowerExtension(path);
   static const char* const kSupported[] = {".obj", ".off", ".ply", ".stl", ".om"};
   if (std::find(std::begin(kSupported), std::end(kSupported), ext) == std::end(kSupported))
-    return BakeStatus::failure(ExitCode::kUnsupported,
+    return BakeStatus::failure(BakeError::kUnsupported,
                                "'" + path + "': unknown mesh format '" + ext + "' (use .obj, .off, .ply, .stl or .om)");
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
-    return BakeStatus::failure(ExitCode::kIo, "'" + path + "': no such file");
+    return BakeStatus::failure(BakeError::kIo, "'" + path + "': no such file");
   const BakeStatus guarded = ext == ".ply"   ? checkPlyHeader(path)
                              : ext == ".obj" ? checkObjFaces(path)
                              : ext == ".off" ? checkOffHeader(path)
@@ -156,7 +156,7 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   soup.reader_messages.insert(soup.reader_messages.end(), logged.begin(), logged.end());
   if (!read) {
     const std::string why = soup.reader_messages.empty() ? "" : ": " + soup.reader_messages.front();
-    return BakeStatus::failure(ExitCode::kIo, "'" + path + "': OpenMesh could not read it" + why);
+    return BakeStatus::failure(BakeError::kIo, "'" + path + "': OpenMesh could not read it" + why);
   }
   const long long declared = ext == ".stl" ? declaredStlFacets(path) : -1;
   if (declared > (long long)soup.polygons)

@@ -7,7 +7,7 @@
 //     sheet repels from both sides.
 // This file rasterizes; the blur and what each method makes of it work on OpenVDB grids in
 // blurred_normals.cpp.
-#include "baker.h"
+#include "stages.h"
 #include "triangle_box.h"
 
 #include <algorithm>
@@ -77,9 +77,8 @@ const char* normalModeName(NormalMode mode) {
 
 BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, ProgressFn progress,
                            void* progress_user, BandGrid* io) {
-  if (options.mode != NormalMode::kExact && (options.blur_radius < 1 || options.blur_radius > 8))
-    return BakeStatus::failure(ExitCode::kUsage, "--blur-radius must be between 1 and 8 (the paper uses 2-4)");
-  if (options.mode == NormalMode::kExact) return BakeStatus::success();
+  const BakeStatus checked = checkBakeOptions(options); // for callers other than bake()
+  if (!checked.ok() || options.mode == NormalMode::kExact) return checked;
   const std::vector<SurfaceVoxel> surface = rasterize(soup, io->grid());
   return options.mode == NormalMode::kNormalBlur
              ? blurNormals(surface, options.blur_radius, options.blur_rounds, io, progress, progress_user)

@@ -3,7 +3,7 @@
 // point p is inside exactly when (p - c) . N < 0, where c is its closest surface point and N the
 // pseudonormal of the feature c lies on: the face normal inside a face, the sum of the two face
 // normals on an edge, the angle-weighted sum of the incident face normals at a vertex.
-#include "baker.h"
+#include "stages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,7 +32,7 @@ PseudonormalSign::~PseudonormalSign() = default;
 
 BakeStatus PseudonormalSign::build(const TriangleSoup& soup, const MeshReport& report) {
   if (!report.wellFormedSolid())
-    return BakeStatus::failure(ExitCode::kInvalidInput,
+    return BakeStatus::failure(BakeError::kInvalidInput,
                                "--sign pseudonormal needs a closed manifold mesh with outward faces; this one has " +
                                    std::to_string(report.boundary_edges) + " boundary, " +
                                    std::to_string(report.non_manifold_edges) + " non-manifold and " +

@@ -75,7 +75,7 @@ BakeStatus checkPlyHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const auto size = std::uint64_t(std::filesystem::file_size(path));
   auto failure = [&](const std::string& why) {
-    return BakeStatus::failure(ExitCode::kInvalidInput, "'" + path + "': PLY header " + why);
+    return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': PLY header " + why);
   };
   std::string line;
   bool seen_element = false;
@@ -120,7 +120,7 @@ BakeStatus checkOffHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const auto size = std::uint64_t(std::filesystem::file_size(path));
   auto failure = [&](const std::string& why) {
-    return BakeStatus::failure(ExitCode::kInvalidInput, "'" + path + "': OFF header " + why);
+    return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': OFF header " + why);
   };
   std::string first_line;
   std::getline(in, first_line);
@@ -173,7 +173,7 @@ BakeStatus checkObjFaces(const std::string& path) {
     if (keyword != "f") continue;
     while (words >> vertex) {
       if (vertex.front() == '/')
-        return BakeStatus::failure(ExitCode::kInvalidInput,
+        return BakeStatus::failure(BakeError::kInvalidInput,
                                    "'" + path + "': line " + std::to_string(number) + ": face vertex '" + vertex +
                                        "' has no vertex index (OBJ needs v, v/vt, v//vn or v/vt/vn)");
     }

@@ -2,7 +2,7 @@
 // as Debian ships it: with assertions on). Each guard was found by a test or by fuzzing load_mesh.
 #pragma once
 
-#include "baker.h"
+#include "stages.h"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-// Fast generalized winding number: the sign of the DN field (DESIGN.md §4.5).
+// Fast generalized winding number: the sign of the DN field (docs/DESIGN.md §5.6).
 //
 // w(q) = sum over triangles of the solid angle they subtend at q, / 4 pi (Jacobson, Kavan &
 // Sorkine-Hornung, "Robust Inside-Outside Segmentation using Generalized Winding Numbers", 2013).
@@ -7,7 +7,7 @@
 // area-weighted centroid, w_cluster(q) ~ (p - q) . N / (4 pi |p - q|^3), used when |p - q| > 2 r.
 // Near clusters open up down to exact solid angles (van Oosterom & Strackee 1983). The hierarchy is
 // built by Embree's generic BVH builder; the dipoles are summed here bottom-up.
-#include "baker.h"
+#include "stages.h"
 
 #include <embree3/rtcore.h>
 
@@ -151,7 +151,7 @@ BakeStatus WindingNumber::build(const TriangleSoup& soup) {
   impl_->soup = &soup;
   if (soup.triangles.empty()) return BakeStatus::success();
   impl_->device = rtcNewDevice(nullptr);
-  if (impl_->device == nullptr) return BakeStatus::failure(ExitCode::kInternal, "Embree could not create a device");
+  if (impl_->device == nullptr) return BakeStatus::failure(BakeError::kInternal, "Embree could not create a device");
   std::vector<RTCBuildPrimitive> prims;
   prims.reserve(soup.triangles.size());
   for (std::uint32_t t = 0; t < soup.triangles.size(); ++t) {
@@ -180,7 +180,7 @@ BakeStatus WindingNumber::build(const TriangleSoup& soup) {
   args.setNodeBounds = setBounds;
   args.createLeaf = createLeaf;
   impl_->root = static_cast<Node*>(rtcBuildBVH(&args));
-  if (impl_->root == nullptr) return BakeStatus::failure(ExitCode::kInternal, "Embree could not build the hierarchy");
+  if (impl_->root == nullptr) return BakeStatus::failure(BakeError::kInternal, "Embree could not build the hierarchy");
   impl_->summarize(impl_->root);
   return BakeStatus::success();
 }

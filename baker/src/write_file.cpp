@@ -1,6 +1,6 @@
-// Atomic output (DESIGN.md §4.7): a failed or interrupted bake never leaves a partial file at the
+// Atomic output (docs/DESIGN.md §5.8): a failed or interrupted bake never leaves a partial file at the
 // output path, nor damages a file already there.
-#include "baker.h"
+#include "stages.h"
 
 #include <cerrno>
 #include <cstdlib>
@@ -18,18 +18,18 @@ BakeStatus writeFileAtomically(const std::string& path, const std::vector<std::u
   namespace fs = std::filesystem;
   const fs::path target(path);
   std::error_code error;
-  if (fs::is_directory(target, error)) return BakeStatus::failure(ExitCode::kIo, "'" + path + "' is a directory");
+  if (fs::is_directory(target, error)) return BakeStatus::failure(BakeError::kIo, "'" + path + "' is a directory");
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::string temp = (folder / ("." + target.filename().string() + ".tmp.XXXXXX")).string();
   const int fd = ::mkstemp(temp.data());
   if (fd < 0)
-    return BakeStatus::failure(ExitCode::kIo,
+    return BakeStatus::failure(BakeError::kIo,
                                "cannot create a file in '" + folder.string() + "': " + std::strerror(errno));
   auto fail = [&](const std::string& what) {
     const std::string reason = std::strerror(errno);
     ::close(fd);
     ::unlink(temp.c_str());
-    return BakeStatus::failure(ExitCode::kIo, what + " '" + path + "': " + reason);
+    return BakeStatus::failure(BakeError::kIo, what + " '" + path + "': " + reason);
   };
   std::size_t written = 0;
   while (written < bytes.size()) {
@@ -42,12 +42,12 @@ BakeStatus writeFileAtomically(const std::string& path, const std::vector<std::u
   if (::close(fd) != 0) {
     const std::string reason = std::strerror(errno);
     ::unlink(temp.c_str());
-    return BakeStatus::failure(ExitCode::kIo, "cannot close '" + path + "': " + reason);
+    return BakeStatus::failure(BakeError::kIo, "cannot close '" + path + "': " + reason);
   }
   if (::rename(temp.c_str(), path.c_str()) != 0) {
     const std::string reason = std::strerror(errno);
     ::unlink(temp.c_str());
-    return BakeStatus::failure(ExitCode::kIo, "cannot replace '" + path + "': " + reason);
+    return BakeStatus::failure(BakeError::kIo, "cannot replace '" + path + "': " + reason);
   }
   return BakeStatus::success();
 }

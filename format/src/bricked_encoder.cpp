@@ -222,16 +222,16 @@ bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
       e.stats.band_voxels += inBand(e, v) ? 1 : 0;
     if (!tryFarTile(e, box, &entry)) {
       if (tryPlaneTile(e, box, brick, &entry)) {
-        ++e.stats.plane_tiles;
+        ++e.stats.tiles.plane;
       } else {
         entry = writeBrick(e, box);
-        ++e.stats.brick_tiles;
+        ++e.stats.tiles.brick;
       }
     }
   }
   const TileKind kind = entryKind(entry);
-  if (kind == TileKind::kFarOutside) ++e.stats.far_outside_tiles;
-  if (kind == TileKind::kFarInside) ++e.stats.far_inside_tiles;
+  if (kind == TileKind::kFarOutside) ++e.stats.tiles.far_outside;
+  if (kind == TileKind::kFarInside) ++e.stats.tiles.far_inside;
   e.top.push_back(entry);
   return true;
 }
@@ -271,10 +271,10 @@ struct Layer {
 };
 
 void addStats(const EncodeStats& layer, EncodeStats* total) {
-  total->far_outside_tiles += layer.far_outside_tiles;
-  total->far_inside_tiles += layer.far_inside_tiles;
-  total->plane_tiles += layer.plane_tiles;
-  total->brick_tiles += layer.brick_tiles;
+  total->tiles.far_outside += layer.tiles.far_outside;
+  total->tiles.far_inside += layer.tiles.far_inside;
+  total->tiles.plane += layer.tiles.plane;
+  total->tiles.brick += layer.tiles.brick;
   total->band_voxels += layer.band_voxels;
   total->max_distance_error_voxels = std::max(total->max_distance_error_voxels, layer.max_distance_error_voxels);
   total->max_normal_error_deg = std::max(total->max_normal_error_deg, layer.max_normal_error_deg);
@@ -287,8 +287,8 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   std::vector<std::uint32_t> pool;
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);
-    if (result.stats.brick_tiles >= kMaxPoolBricks) {
-      result.error = "too many bricks for one file (the pool index has 30 bits)";
+    if (result.stats.tiles.brick >= kMaxPoolBricks) {
+      result.fail(EncodeError::kTooLarge, "too many bricks for one file (the pool index has 30 bits)");
       return result;
     }
     const auto first_brick = std::uint32_t(pool.size() >> (3 * grid.brick_log2));
@@ -314,8 +314,8 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
                            const EncodeHooks& hooks) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
-  result.error = checkGeometry(g);
-  if (result.ok()) result.error = checkOptions(options);
+  result.fail(EncodeError::kInvalidGeometry, checkGeometry(g));
+  result.fail(EncodeError::kInvalidOptions, checkOptions(options));
   if (!result.ok()) return result;
 
   const std::uint32_t log2 = options.brick_size == 4 ? 2 : options.brick_size == 8 ? 3 : 4;
@@ -338,17 +338,16 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
     layers[z].pool = std::move(e.pool);
     layers[z].stats = e.stats;
   });
-  if (!finished) result.error = "cancelled";
-  for (const Layer& layer : layers) {
-    if (result.ok() && !layer.error.empty()) result.error = layer.error; // the first bad layer, whatever the threads
-  }
+  if (!finished) result.fail(EncodeError::kCancelled, "cancelled");
+  for (const Layer& layer : layers)
+    result.fail(EncodeError::kInvalidField, layer.error); // the first bad layer, whatever the threads
   if (!result.ok()) return result;
   return joinLayers(grid, std::move(layers), metadata_json);
 }
 
 EncodeResult encodeBricked(const DenseField& field, const BrickOptions& options, std::string_view metadata_json) {
   EncodeResult result;
-  result.error = checkField(field);
+  result.fail(EncodeError::kInvalidField, checkField(field));
   return result.ok() ? encodeBricked(DenseSource(field), options, metadata_json) : result;
 }
 

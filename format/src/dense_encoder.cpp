@@ -18,12 +18,12 @@ std::string checkGeometry(const GridGeometry& g) {
   for (std::uint32_t d : g.dims) {
     if (d == 0) return "every grid dimension must be at least 1";
   }
-  if (std::fabs(g.origin.x) > kMagnitudeLimit || std::fabs(g.origin.y) > kMagnitudeLimit ||
-      std::fabs(g.origin.z) > kMagnitudeLimit || g.voxel_size > kMagnitudeLimit ||
-      g.voxel_size < 1.0f / kMagnitudeLimit || g.band > kMagnitudeLimit)
+  if (std::fabs(g.origin.x) > kMaxMagnitude || std::fabs(g.origin.y) > kMaxMagnitude ||
+      std::fabs(g.origin.z) > kMaxMagnitude || g.voxel_size > kMaxMagnitude || g.voxel_size < 1.0f / kMaxMagnitude ||
+      g.band > kMaxMagnitude)
     return "grid origin, voxel size or band is outside [1e-18, 1e18]";
   for (std::uint32_t d : g.dims) {
-    if (d > (1u << 24)) return "a grid dimension exceeds 2^24 voxels";
+    if (d > kMaxAxisVoxels) return "a grid dimension exceeds 2^24 voxels";
   }
   return {};
 }
@@ -31,7 +31,7 @@ std::string checkGeometry(const GridGeometry& g) {
 std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f* normal) {
   for (std::size_t v = 0; v < box.count(); ++v) {
     const Vec3f n = normal[v];
-    if (!(std::fabs(distance[v]) <= kMagnitudeLimit) || !std::isfinite(n.x) || !std::isfinite(n.y) ||
+    if (!(std::fabs(distance[v]) <= kMaxMagnitude) || !std::isfinite(n.x) || !std::isfinite(n.y) ||
         !std::isfinite(n.z)) {
       const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
       return "voxel (" + std::to_string(box.lo[0] + v % nx) + ", " + std::to_string(box.lo[1] + v / nx % ny) + ", " +
@@ -93,7 +93,7 @@ void addCommonSections(ContainerBuilder& builder, const GridSection& grid, std::
 EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json, const EncodeHooks& hooks) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
-  result.error = checkGeometry(g);
+  result.fail(EncodeError::kInvalidGeometry, checkGeometry(g));
   if (!result.ok()) return result;
 
   // One piece per z slice, each writing its own part of `voxels`.
@@ -117,10 +117,9 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
       if (std::fabs(distance[v]) < g.band) ++band_voxels[k];
     }
   });
-  if (!finished) result.error = "cancelled";
-  for (const std::string& error : errors) {
-    if (result.ok() && !error.empty()) result.error = error; // the first bad slice, whatever the threads
-  }
+  if (!finished) result.fail(EncodeError::kCancelled, "cancelled");
+  for (const std::string& error : errors)
+    result.fail(EncodeError::kInvalidField, error); // the first bad slice, whatever the threads
   if (!result.ok()) return result;
   for (std::uint64_t count : band_voxels)
     result.stats.band_voxels += count;
@@ -134,7 +133,7 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
 
 EncodeResult encodeDense(const DenseField& field, std::string_view metadata_json) {
   EncodeResult result;
-  result.error = checkField(field);
+  result.fail(EncodeError::kInvalidField, checkField(field));
   return result.ok() ? encodeDense(DenseSource(field), metadata_json) : result;
 }
 

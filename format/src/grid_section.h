@@ -1,6 +1,7 @@
 // Internal to the writer: helpers both encoders share.
 #pragma once
 
+#include "dng/format/limits.h"
 #include "dng/format/writer.h"
 
 #include <string>
@@ -9,10 +10,7 @@
 namespace dng {
 namespace format {
 
-/// Readers refuse larger magnitudes (docs/FORMAT.md, V12).
-constexpr float kMagnitudeLimit = 1e18f;
-
-/// Empty when every voxel of a read box is finite and within kMagnitudeLimit, else which one is not.
+/// Empty when every voxel of a read box is finite and within kMaxMagnitude, else which one is not.
 std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f* normal);
 
 /// Runs piece(i) for i in [0, count) through hooks.parallel_for (or in order), reporting progress

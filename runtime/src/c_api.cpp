@@ -24,11 +24,14 @@ namespace {
 static_assert(sizeof(dng_sample) == sizeof(dng::Sample), "dng_sample mirrors dng::Sample");
 static_assert(DNG_SECTION_HASH_MISMATCH == int(dng::Status::kSectionHashMismatch), "status numbers match");
 static_assert(DNG_OUT_OF_MEMORY == int(dng::Status::kOutOfMemory), "status numbers match");
+static_assert(DNG_NONZERO_PADDING == int(dng::Status::kNonZeroPadding), "status numbers match");
 
 dng_status report(dng::Status status, const dng::Diagnostic& diag, char* out, std::size_t capacity) {
   if (out != nullptr && capacity > 0) {
     const char* text = status == dng::Status::kOk ? "" : diag.message[0] ? diag.message : dng::statusString(status);
-    std::snprintf(out, capacity, "%s", text);
+    // C callers get one string: the rule leads it, as in dngdump's findings ("V8: file is truncated...").
+    const bool ruled = status != dng::Status::kOk && diag.rule[0] != '\0';
+    std::snprintf(out, capacity, "%s%s%s", ruled ? diag.rule : "", ruled ? ": " : "", text);
   }
   return dng_status(status);
 }

@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <new>
 #include <utility>
 
 #include <fcntl.h>
@@ -17,14 +18,19 @@ File::~File() { release(); }
 
 File::File(File&& other) noexcept
     : mapping_(std::exchange(other.mapping_, nullptr)), mapped_size_(std::exchange(other.mapped_size_, 0)),
-      view_(std::exchange(other.view_, View())) {}
+      view_(std::move(other.view_)) {}
+
+const View& File::view() const {
+  static const View empty;
+  return view_ != nullptr ? *view_ : empty;
+}
 
 File& File::operator=(File&& other) noexcept {
   if (this != &other) {
     release();
     mapping_ = std::exchange(other.mapping_, nullptr);
     mapped_size_ = std::exchange(other.mapped_size_, 0);
-    view_ = std::exchange(other.view_, View());
+    view_ = std::move(other.view_);
   }
   return *this;
 }
@@ -33,7 +39,7 @@ void File::release() {
   if (mapping_ != nullptr) munmap(mapping_, mapped_size_);
   mapping_ = nullptr;
   mapped_size_ = 0;
-  view_ = View();
+  view_.reset();
 }
 
 Status File::open(const char* path, File* out_file, Diagnostic* out_diag) {
@@ -55,7 +61,7 @@ Status File::open(const char* path, File* out_file, Diagnostic* out_diag) {
   const auto size = std::size_t(info.st_size);
   if (size == 0) {
     ::close(fd);
-    return writeDiagnostic(out_diag, Status::kTruncated, "V3: '%s' is empty", path);
+    return writeRuleDiagnostic(out_diag, Status::kTruncated, "V3", "'%s' is empty", path);
   }
   void* mapping = mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
   const int map_error = errno;
@@ -65,7 +71,9 @@ Status File::open(const char* path, File* out_file, Diagnostic* out_diag) {
   File file;
   file.mapping_ = mapping;
   file.mapped_size_ = size;
-  const Status status = View::open(mapping, size, &file.view_, out_diag);
+  file.view_.reset(new (std::nothrow) View());
+  if (file.view_ == nullptr) return writeDiagnostic(out_diag, Status::kOutOfMemory, "no memory for the view");
+  const Status status = View::open(mapping, size, file.view_.get(), out_diag);
   if (status != Status::kOk) return status; // `file` unmaps on the way out
   *out_file = std::move(file);
   return Status::kOk;

@@ -1,5 +1,6 @@
 // Non-collision forces for particle systems (dng/forces.h).
 #include "dng/forces.h"
+#include "diagnostic.h"
 
 #include <cmath>
 
@@ -11,41 +12,74 @@ float& component(float* base, std::size_t stride, std::size_t n) {
   return *reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride);
 }
 
+bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// The checks every force shares: dt, and the velocity arrays (positions only when the force reads them).
+Status checkSpan(const ParticleSpan& s, float dt, bool reads_positions, Diagnostic* diag) {
+  if (!(dt > 0.0f) || !std::isfinite(dt))
+    return writeDiagnostic(diag, Status::kInvalidArgument, "dt must be finite and > 0, got %g", double(dt));
+  if (s.count == 0) return Status::kOk;
+  if (s.velocity_x == nullptr || s.velocity_y == nullptr || s.velocity_z == nullptr)
+    return writeDiagnostic(diag, Status::kInvalidArgument, "the span's velocity arrays must not be null");
+  if (reads_positions && (s.position_x == nullptr || s.position_y == nullptr || s.position_z == nullptr))
+    return writeDiagnostic(diag, Status::kInvalidArgument, "this force reads positions: they must not be null");
+  return Status::kOk;
+}
+
 template <class Change> void updateVelocities(const ParticleSpan& s, Change change) {
   for (std::size_t n = 0; n < s.count; ++n) {
     float& vx = component(s.velocity_x, s.velocity_stride, n);
     float& vy = component(s.velocity_y, s.velocity_stride, n);
     float& vz = component(s.velocity_z, s.velocity_stride, n);
-    const Vec3f p{component(s.position_x, s.position_stride, n), component(s.position_y, s.position_stride, n),
-                  component(s.position_z, s.position_stride, n)};
-    const Vec3f v = change(p, Vec3f{vx, vy, vz});
+    const Vec3f v = change(n, Vec3f{vx, vy, vz});
     vx = v.x;
     vy = v.y;
     vz = v.z;
   }
 }
 
+Vec3f positionOf(const ParticleSpan& s, std::size_t n) {
+  return {component(s.position_x, s.position_stride, n), component(s.position_y, s.position_stride, n),
+          component(s.position_z, s.position_stride, n)};
+}
+
 } // namespace
 
-void applyGravity(const ParticleSpan& particles, Vec3f gravity, float dt) {
+Status applyGravity(const ParticleSpan& particles, Vec3f gravity, float dt, Diagnostic* out_diag) {
+  const Status status = checkSpan(particles, dt, false, out_diag);
+  if (status != Status::kOk) return status;
+  if (!finite(gravity)) return writeDiagnostic(out_diag, Status::kInvalidArgument, "gravity must be finite");
   const Vec3f dv = gravity * dt;
-  updateVelocities(particles, [dv](Vec3f, Vec3f v) { return v + dv; });
+  updateVelocities(particles, [dv](std::size_t, Vec3f v) { return v + dv; });
+  return Status::kOk;
 }
 
-void applyAirDrag(const ParticleSpan& particles, Vec3f wind, float rate, float dt) {
+Status applyAirDrag(const ParticleSpan& particles, Vec3f wind, float rate, float dt, Diagnostic* out_diag) {
+  const Status status = checkSpan(particles, dt, false, out_diag);
+  if (status != Status::kOk) return status;
+  if (!finite(wind) || !(rate >= 0.0f) || !std::isfinite(rate))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "wind must be finite and rate finite and >= 0");
   const float blend = 1.0f - std::exp(-rate * dt);
-  updateVelocities(particles, [wind, blend](Vec3f, Vec3f v) { return v + (wind - v) * blend; });
+  updateVelocities(particles, [wind, blend](std::size_t, Vec3f v) { return v + (wind - v) * blend; });
+  return Status::kOk;
 }
 
-void applyExplosion(const ParticleSpan& particles, Vec3f centre, float strength, float radius, float dt) {
+Status applyExplosion(const ParticleSpan& particles, Vec3f centre, float strength, float radius, float dt,
+                      Diagnostic* out_diag) {
+  const Status status = checkSpan(particles, dt, true, out_diag);
+  if (status != Status::kOk) return status;
+  if (!finite(centre) || !std::isfinite(strength) || !(radius > 0.0f) || !std::isfinite(radius))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument,
+                           "centre and strength must be finite and radius finite and > 0");
   const float inv_radius_sq = 1.0f / (radius * radius);
-  updateVelocities(particles, [=](Vec3f p, Vec3f v) {
-    const Vec3f r = p - centre;
+  updateVelocities(particles, [&](std::size_t n, Vec3f v) {
+    const Vec3f r = positionOf(particles, n) - centre;
     const float r_sq = dot(r, r);
     if (!(r_sq > 0.0f)) return v;
     const float accel = strength / (1.0f + r_sq * inv_radius_sq);
     return v + r * (accel * dt / std::sqrt(r_sq));
   });
+  return Status::kOk;
 }
 
 } // namespace dng

@@ -32,6 +32,7 @@ const char* statusString(Status status) {
   case Status::kBadValue: return "non-finite or out-of-range value in the payload";
   case Status::kSectionHashMismatch: return "section hash mismatch";
   case Status::kOutOfMemory: return "out of memory";
+  case Status::kNonZeroPadding: return "non-zero padding between sections";
   }
   return "unknown status";
 }
@@ -39,7 +40,23 @@ const char* statusString(Status status) {
 Status writeDiagnostic(Diagnostic* diag, Status status, const char* format, va_list args) {
   if (diag == nullptr) return status;
   diag->status = status;
+  diag->rule[0] = '\0'; // no rule unless writeRuleDiagnostic names one
   std::vsnprintf(diag->message, sizeof diag->message, format, args);
+  return status;
+}
+
+Status writeRuleDiagnostic(Diagnostic* diag, Status status, const char* rule, const char* format, va_list args) {
+  if (diag == nullptr) return status;
+  writeDiagnostic(diag, status, format, args);
+  std::snprintf(diag->rule, sizeof diag->rule, "%s", rule);
+  return status;
+}
+
+Status writeRuleDiagnostic(Diagnostic* diag, Status status, const char* rule, const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  writeRuleDiagnostic(diag, status, rule, format, args);
+  va_end(args);
   return status;
 }
 

@@ -3,6 +3,7 @@
 // reads is finite, so queries need no checks beyond clamping the position.
 #include "diagnostic.h"
 #include "dng/format/codec.h"
+#include "dng/format/limits.h"
 #include "dng/format/xxhash64.h"
 #include "dng/view.h"
 
@@ -15,16 +16,7 @@ namespace fmt = format;
 
 namespace {
 
-// Largest voxel count per axis: positions are converted through float, which is exact to 2^24.
-constexpr std::uint32_t kMaxAxisVoxels = 1u << 24;
-// Largest magnitude of any length in a file. Far below FLT_MAX, so no sum or product a query forms
-// from validated values can overflow to infinity.
-constexpr float kMaxMagnitude = 1e18f;
-
-// Dense normals are unit or zero; allow rounding slack.
-constexpr float kMaxNormalLengthSquared = 1.0001f;
-
-bool saneLength(float x) { return std::fabs(x) <= kMaxMagnitude; } // false for NaN too
+bool saneLength(float x) { return std::fabs(x) <= fmt::kMaxMagnitude; } // false for NaN too
 
 // dims[0] * dims[1] * dims[2] into *out_product when it is at most `limit` (no overflow possible:
 // each factor is checked against what is left of the limit).
@@ -63,33 +55,33 @@ private:
     fmt::SectionEntry copy{};
   };
 
-  Status fail(Status status, const char* format, ...) DNG_PRINTF_LIKE(3, 4);
+  Status fail(Status status, const char* rule, const char* format, ...) DNG_PRINTF_LIKE(4, 5);
 
   const std::uint8_t* at(std::uint64_t offset) const { return data_ + offset; }
 
   // V1-V8: host, buffer, magic, version, header hash, header fields, file size.
   Status checkHeader() {
-    if (!fmt::isLittleEndianHost()) return fail(Status::kUnsupportedHost, "V1: host is big-endian");
-    if (data_ == nullptr) return fail(Status::kInvalidArgument, "V2: no bytes given");
+    if (!fmt::isLittleEndianHost()) return fail(Status::kUnsupportedHost, "V1", "host is big-endian");
+    if (data_ == nullptr) return fail(Status::kInvalidArgument, "V2", "no bytes given");
     if (reinterpret_cast<std::uintptr_t>(data_) % 8 != 0)
-      return fail(Status::kInvalidArgument, "V2: buffer address must be 8-byte aligned");
+      return fail(Status::kInvalidArgument, "V2", "buffer address must be 8-byte aligned");
     if (size_ < fmt::kHeaderSize)
-      return fail(Status::kTruncated, "V3: %zu bytes is shorter than the %u-byte header", size_, fmt::kHeaderSize);
+      return fail(Status::kTruncated, "V3", "%zu bytes is shorter than the %u-byte header", size_, fmt::kHeaderSize);
     std::memcpy(&header_, data_, sizeof header_);
     if (std::memcmp(header_.magic, fmt::kMagic, sizeof fmt::kMagic) != 0)
-      return fail(Status::kBadMagic, "V4: magic bytes are not those of a .dng file");
+      return fail(Status::kBadMagic, "V4", "magic bytes are not those of a .dng file");
     if (header_.version_major != fmt::kVersionMajor)
-      return fail(Status::kUnsupportedVersion, "V5: format version %u.%u, this reader reads major version %u",
+      return fail(Status::kUnsupportedVersion, "V5", "format version %u.%u, this reader reads major version %u",
                   header_.version_major, header_.version_minor, fmt::kVersionMajor);
     if (fmt::xxhash64(data_, offsetof(fmt::FileHeader, header_hash)) != header_.header_hash)
-      return fail(Status::kHeaderHashMismatch, "V6: header hash does not match the header bytes");
+      return fail(Status::kHeaderHashMismatch, "V6", "header hash does not match the header bytes");
     if (header_.header_size != fmt::kHeaderSize)
-      return fail(Status::kBadHeader, "V7: header size %u, expected %u", header_.header_size, fmt::kHeaderSize);
+      return fail(Status::kBadHeader, "V7", "header size %u, expected %u", header_.header_size, fmt::kHeaderSize);
     if (header_.file_size > size_)
-      return fail(Status::kTruncated, "V8: file is truncated: header says %llu bytes, %zu present",
+      return fail(Status::kTruncated, "V8", "file is truncated: header says %llu bytes, %zu present",
                   (unsigned long long)header_.file_size, size_);
     if (header_.file_size < size_)
-      return fail(Status::kTrailingBytes, "V8: %zu bytes present, header says the file ends at %llu", size_,
+      return fail(Status::kTrailingBytes, "V8", "%zu bytes present, header says the file ends at %llu", size_,
                   (unsigned long long)header_.file_size);
     view_.version_major_ = header_.version_major;
     view_.version_minor_ = header_.version_minor;
@@ -100,15 +92,15 @@ private:
   Status checkTable() {
     const std::uint64_t offset = header_.section_table_offset;
     if (header_.section_count > fmt::kMaxSections)
-      return fail(Status::kBadSectionTable, "V9: %u sections, at most %u allowed", header_.section_count,
+      return fail(Status::kBadSectionTable, "V9", "%u sections, at most %u allowed", header_.section_count,
                   fmt::kMaxSections);
     if (offset < fmt::kHeaderSize || offset % fmt::kSectionAlignment != 0 || offset > size_ ||
         std::uint64_t(header_.section_count) * sizeof(fmt::SectionEntry) > size_ - offset)
-      return fail(Status::kBadSectionTable, "V9: section table at %llu with %u entries does not fit the file",
+      return fail(Status::kBadSectionTable, "V9", "section table at %llu with %u entries does not fit the file",
                   (unsigned long long)offset, header_.section_count);
     table_end_ = offset + std::uint64_t(header_.section_count) * sizeof(fmt::SectionEntry);
     if (fmt::xxhash64(at(offset), table_end_ - offset) != header_.section_table_hash)
-      return fail(Status::kSectionTableHashMismatch, "V9: section table hash does not match");
+      return fail(Status::kSectionTableHashMismatch, "V9", "section table hash does not match");
     return Status::kOk;
   }
 
@@ -119,13 +111,13 @@ private:
       fmt::SectionEntry e;
       std::memcpy(&e, at(header_.section_table_offset + s * sizeof e), sizeof e);
       if (e.offset % fmt::kSectionAlignment != 0)
-        return fail(Status::kSectionMisaligned, "V10: section %u starts at %llu, not a multiple of 64", s,
+        return fail(Status::kSectionMisaligned, "V10", "section %u starts at %llu, not a multiple of 64", s,
                     (unsigned long long)e.offset);
       if (e.offset > size_ || e.size > size_ - e.offset)
-        return fail(Status::kSectionOutOfBounds, "V10: section %u (offset %llu, size %llu) leaves the %zu-byte file", s,
-                    (unsigned long long)e.offset, (unsigned long long)e.size, size_);
+        return fail(Status::kSectionOutOfBounds, "V10", "section %u (offset %llu, size %llu) leaves the %zu-byte file",
+                    s, (unsigned long long)e.offset, (unsigned long long)e.size, size_);
       if (e.offset < previous_end)
-        return fail(Status::kSectionOverlap, "V10: section %u at %llu overlaps the table or the previous section", s,
+        return fail(Status::kSectionOverlap, "V10", "section %u at %llu overlaps the table or the previous section", s,
                     (unsigned long long)e.offset);
       previous_end = e.offset + e.size;
       const Status known = recordSection(s, e);
@@ -138,12 +130,12 @@ private:
     Found* slot = slotFor(e.tag);
     if (slot == nullptr) {
       if (e.flags & fmt::kSectionRequired)
-        return fail(Status::kUnknownRequiredSection, "V11: section %u has unknown tag '%.4s' and is marked required",
+        return fail(Status::kUnknownRequiredSection, "V11", "section %u has unknown tag '%.4s' and is marked required",
                     index, reinterpret_cast<const char*>(&e.tag));
       return Status::kOk; // unknown optional sections are ignored by design
     }
     if (slot->present)
-      return fail(Status::kDuplicateSection, "V11: tag '%.4s' appears twice", reinterpret_cast<const char*>(&e.tag));
+      return fail(Status::kDuplicateSection, "V11", "tag '%.4s' appears twice", reinterpret_cast<const char*>(&e.tag));
     slot->present = true;
     slot->copy = e;
     return Status::kOk;
@@ -175,34 +167,34 @@ private:
   View view_;
 };
 
-Status ViewBuilder::fail(Status status, const char* format, ...) {
+Status ViewBuilder::fail(Status status, const char* rule, const char* format, ...) {
   va_list args;
   va_start(args, format);
-  writeDiagnostic(diag_, status, format, args);
+  writeRuleDiagnostic(diag_, status, rule, format, args);
   va_end(args);
   return status;
 }
 
 // V12-V13: geometry and encoding.
 Status ViewBuilder::checkGrid() {
-  if (!grid_section_.present) return fail(Status::kMissingSection, "V12: no GRID section");
+  if (!grid_section_.present) return fail(Status::kMissingSection, "V12", "no GRID section");
   if (grid_section_.copy.size < sizeof(fmt::GridSection))
-    return fail(Status::kBadPayloadSize, "V12: GRID section has %llu bytes, needs %zu",
+    return fail(Status::kBadPayloadSize, "V12", "GRID section has %llu bytes, needs %zu",
                 (unsigned long long)grid_section_.copy.size, sizeof(fmt::GridSection));
   fmt::GridSection g;
   std::memcpy(&g, at(grid_section_.copy.offset), sizeof g);
   if (!saneLength(g.origin[0]) || !saneLength(g.origin[1]) || !saneLength(g.origin[2]))
-    return fail(Status::kBadGrid, "V12: grid origin is not finite or beyond 1e18");
+    return fail(Status::kBadGrid, "V12", "grid origin is not finite or beyond 1e18");
   if (!(g.voxel_size > 0.0f) || !saneLength(g.voxel_size) || !saneLength(1.0f / g.voxel_size))
-    return fail(Status::kBadGrid, "V12: voxel size %g is not in [1e-18, 1e18]", double(g.voxel_size));
+    return fail(Status::kBadGrid, "V12", "voxel size %g is not in [1e-18, 1e18]", double(g.voxel_size));
   if (!(g.band > 0.0f) || !saneLength(g.band))
-    return fail(Status::kBadGrid, "V12: band %g is not in (0, 1e18]", double(g.band));
+    return fail(Status::kBadGrid, "V12", "band %g is not in (0, 1e18]", double(g.band));
   for (int a = 0; a < 3; ++a) {
-    if (g.dims[a] == 0 || g.dims[a] > kMaxAxisVoxels)
-      return fail(Status::kBadGrid, "V12: dimension %d is %u, must be 1..%u", a, g.dims[a], kMaxAxisVoxels);
+    if (g.dims[a] == 0 || g.dims[a] > fmt::kMaxAxisVoxels)
+      return fail(Status::kBadGrid, "V12", "dimension %d is %u, must be 1..%u", a, g.dims[a], fmt::kMaxAxisVoxels);
   }
   if (g.encoding > std::uint32_t(fmt::Encoding::kBricked))
-    return fail(Status::kUnsupportedEncoding, "V13: encoding %u is unknown", g.encoding);
+    return fail(Status::kUnsupportedEncoding, "V13", "encoding %u is unknown", g.encoding);
   grid_.origin = {g.origin[0], g.origin[1], g.origin[2]};
   grid_.voxel_size = g.voxel_size;
   for (int a = 0; a < 3; ++a)
@@ -212,12 +204,12 @@ Status ViewBuilder::checkGrid() {
   grid_.flags = g.flags; // 1.0 writers wrote 0 here; unknown bits are for later minor versions
   if (grid_.encoding == fmt::Encoding::kBricked) {
     if (g.brick_log2 < 2 || g.brick_log2 > 4)
-      return fail(Status::kUnsupportedEncoding, "V13: brick edge 2^%u, must be 4, 8 or 16", g.brick_log2);
+      return fail(Status::kUnsupportedEncoding, "V13", "brick edge 2^%u, must be 4, 8 or 16", g.brick_log2);
     grid_.brick_size = 1u << g.brick_log2;
     for (int a = 0; a < 3; ++a) {
       const std::uint32_t expected = (g.dims[a] + grid_.brick_size - 1) >> g.brick_log2;
       if (g.brick_dims[a] != expected)
-        return fail(Status::kBadGrid, "V13: brick dimension %d is %u, expected %u", a, g.brick_dims[a], expected);
+        return fail(Status::kBadGrid, "V13", "brick dimension %d is %u, expected %u", a, g.brick_dims[a], expected);
       grid_.brick_dims[a] = expected;
     }
     grid_.tolerance_distance = g.tolerance_distance;
@@ -236,18 +228,18 @@ Status ViewBuilder::checkGrid() {
 
 // V14: dense payload size and finiteness.
 Status ViewBuilder::checkDense() {
-  if (!dense_section_.present) return fail(Status::kMissingSection, "V14: dense grid without DENS section");
+  if (!dense_section_.present) return fail(Status::kMissingSection, "V14", "dense grid without DENS section");
   std::uint64_t voxels = 0;
   if (!productAtMost(grid_.dims, size_ / sizeof(fmt::DenseVoxel), &voxels) ||
       dense_section_.copy.size != voxels * sizeof(fmt::DenseVoxel))
-    return fail(Status::kBadPayloadSize, "V14: DENS has %llu bytes, the grid needs %llu voxels of 16 bytes",
+    return fail(Status::kBadPayloadSize, "V14", "DENS has %llu bytes, the grid needs %llu voxels of 16 bytes",
                 (unsigned long long)dense_section_.copy.size, (unsigned long long)voxels);
   const auto* voxel = reinterpret_cast<const fmt::DenseVoxel*>(at(dense_section_.copy.offset));
   for (std::uint64_t v = 0; v < voxels; ++v) {
     const fmt::DenseVoxel& x = voxel[v];
     const float n2 = x.normal[0] * x.normal[0] + x.normal[1] * x.normal[1] + x.normal[2] * x.normal[2];
-    if (!saneLength(x.distance) || !(n2 <= kMaxNormalLengthSquared))
-      return fail(Status::kBadValue, "V14: dense voxel %llu holds a non-finite or out-of-range value",
+    if (!saneLength(x.distance) || !(n2 <= fmt::kMaxNormalLengthSquared))
+      return fail(Status::kBadValue, "V14", "dense voxel %llu holds a non-finite or out-of-range value",
                   (unsigned long long)v);
   }
   view_.dense_ = voxel;
@@ -257,14 +249,14 @@ Status ViewBuilder::checkDense() {
 // V15: top table and pool sizes; V16: every top entry.
 Status ViewBuilder::checkBricked() {
   if (!top_section_.present || !pool_section_.present)
-    return fail(Status::kMissingSection, "V15: bricked grid without BTOP and BPOL sections");
+    return fail(Status::kMissingSection, "V15", "bricked grid without BTOP and BPOL sections");
   std::uint64_t tiles = 0;
   if (!productAtMost(grid_.brick_dims, size_ / 8, &tiles) || top_section_.copy.size != tiles * 8)
-    return fail(Status::kBadPayloadSize, "V15: BTOP has %llu bytes, the grid has %llu tiles of 8 bytes",
+    return fail(Status::kBadPayloadSize, "V15", "BTOP has %llu bytes, the grid has %llu tiles of 8 bytes",
                 (unsigned long long)top_section_.copy.size, (unsigned long long)tiles);
   const std::uint64_t brick_bytes = std::uint64_t(4) << (3 * view_.brick_log2_);
   if (pool_section_.copy.size % brick_bytes != 0 || pool_section_.copy.size / brick_bytes > fmt::kMaxPoolBricks)
-    return fail(Status::kBadPayloadSize, "V15: BPOL has %llu bytes, not a whole number of %llu-byte bricks",
+    return fail(Status::kBadPayloadSize, "V15", "BPOL has %llu bytes, not a whole number of %llu-byte bricks",
                 (unsigned long long)pool_section_.copy.size, (unsigned long long)brick_bytes);
   view_.top_ = reinterpret_cast<const std::uint64_t*>(at(top_section_.copy.offset));
   view_.pool_ = reinterpret_cast<const std::uint32_t*>(at(pool_section_.copy.offset));
@@ -274,7 +266,8 @@ Status ViewBuilder::checkBricked() {
 Status ViewBuilder::checkTopEntries(std::uint64_t pool_bricks) {
   const std::uint64_t tiles = top_section_.copy.size / 8;
   // A plane that matters crosses the band somewhere in its tile: |d_c| <= band + tile diagonal.
-  const float max_plane_distance = grid_.band + 1.7321f * float(grid_.brick_size) * grid_.voxel_size;
+  const float max_plane_distance =
+      grid_.band + 2.0f * fmt::kHalfCubeDiagonal * float(grid_.brick_size) * grid_.voxel_size;
   TileCounts counts;
   for (std::uint64_t t = 0; t < tiles; ++t) {
     const std::uint64_t entry = view_.top_[t];
@@ -282,18 +275,19 @@ Status ViewBuilder::checkTopEntries(std::uint64_t pool_bricks) {
     case fmt::TileKind::kFarOutside:
     case fmt::TileKind::kFarInside:
       if ((entry >> 2) != 0)
-        return fail(Status::kBadTileEntry, "V16: far tile %llu has reserved bits set", (unsigned long long)t);
+        return fail(Status::kBadTileEntry, "V16", "far tile %llu has reserved bits set", (unsigned long long)t);
       ++(fmt::entryKind(entry) == fmt::TileKind::kFarOutside ? counts.far_outside : counts.far_inside);
       break;
     case fmt::TileKind::kPlane:
       if (!(std::fabs(fmt::entryPlaneDistance(entry)) <= max_plane_distance))
-        return fail(Status::kBadTileEntry, "V16: plane tile %llu has distance %g at its centre, beyond band + diagonal",
-                    (unsigned long long)t, double(fmt::entryPlaneDistance(entry)));
+        return fail(Status::kBadTileEntry, "V16",
+                    "plane tile %llu has distance %g at its centre, beyond band + diagonal", (unsigned long long)t,
+                    double(fmt::entryPlaneDistance(entry)));
       ++counts.plane;
       break;
     case fmt::TileKind::kBrick:
       if (fmt::entryPoolIndex(entry) >= pool_bricks)
-        return fail(Status::kBadTileEntry, "V16: tile %llu refers to brick %u, the pool holds %llu",
+        return fail(Status::kBadTileEntry, "V16", "tile %llu refers to brick %u, the pool holds %llu",
                     (unsigned long long)t, fmt::entryPoolIndex(entry), (unsigned long long)pool_bricks);
       ++counts.brick;
       break;

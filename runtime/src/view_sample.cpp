@@ -2,7 +2,7 @@
 //
 // Nearest: the voxel that contains p; its distance is refined with the voxel's own plane,
 // d = d_v + n_v . (p - c_v), so the answer varies smoothly inside a voxel instead of in steps
-// (DESIGN.md §3). Trilinear: the eight voxel centres around p, blended. Both work in "voxel units"
+// (docs/DESIGN.md §3). Trilinear: the eight voxel centres around p, blended. Both work in "voxel units"
 // u = (p - origin) / voxel_size, where voxel (i, j, k) spans [i, i + 1) and its centre is i + 0.5.
 // Open-time validation guarantees every index and value used here; the only check left is whether
 // p lies inside the grid, written so a NaN coordinate fails it.
@@ -130,7 +130,8 @@ Sample View::sample(Vec3f p, Interpolation mode) const {
 
 namespace {
 
-// Runs `query` over strided points. The query is a lambda so each instantiation inlines its own.
+// Runs `query` over strided points. The query is a lambda so each instantiation inlines its own: the
+// encoding and the interpolation are chosen once per batch, never per point.
 template <class Query>
 void forEachPoint(const float* points, std::size_t stride, std::size_t count, Sample* out, Query query) {
   const auto* bytes = reinterpret_cast<const unsigned char*>(points);
@@ -149,8 +150,10 @@ void View::sampleBatch(const float* points, std::size_t point_stride_bytes, std:
   if (!valid()) {
     for (std::size_t n = 0; n < count; ++n)
       out_samples[n] = noField();
+  } else if (mode == Interpolation::kTrilinear && dense_ != nullptr) {
+    forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kDense>(p); });
   } else if (mode == Interpolation::kTrilinear) {
-    forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return sample(p, Interpolation::kTrilinear); });
+    forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kBricked>(p); });
   } else if (dense_ != nullptr) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return nearest<fmt::Encoding::kDense>(p); });
   } else {

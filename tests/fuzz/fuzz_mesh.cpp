@@ -4,7 +4,7 @@
 // instrumented, so coverage guides only through our code; its asserts and crashes still show.
 // Every input it found that crashed, hung or exhausted memory is in mesh_regressions/ (CI replays them
 // through `bash setup.sh fuzz`); open-ended runs are `bash setup.sh fuzz-meshes [SECONDS]`.
-#include "baker.h"
+#include "stages.h"
 
 #include <cstdint>
 #include <cstdio>

@@ -1,6 +1,6 @@
 #include "leak_meshes.h"
 
-#include "baker.h"
+#include "stages.h"
 
 #include <algorithm>
 #include <cmath>

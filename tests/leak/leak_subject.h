@@ -1,10 +1,10 @@
 // A leak subject: one mesh baked in one normal mode, with its reference on the original triangles.
 #pragma once
 
-#include "baker.h"
 #include "dng/file.h"
 #include "leak_meshes.h"
 #include "mesh_reference.h"
+#include "stages.h"
 
 #include <memory>
 #include <string>

@@ -4,8 +4,8 @@
 // POSITIONS holds "x y z" per line in the mesh's frame. Prints {"points":N,"inside":K,"deepest":D}
 // where K counts points inside deeper than MIN_DEPTH (mesh units, default 0) and D is the deepest.
 // Exit 0 when counted, 1 on bad arguments, 2 when a file cannot be read.
-#include "baker.h"
 #include "mesh_reference.h"
+#include "stages.h"
 
 #include <cstdio>
 #include <fstream>

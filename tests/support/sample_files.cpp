@@ -11,12 +11,14 @@ namespace testing {
 
 using namespace analytic;
 
-std::vector<std::uint8_t> smallBrickedBox() {
+std::vector<std::uint8_t> smallBrickedBox() { return smallBrickedBox(R"({"test":"small bricked box"})"); }
+
+std::vector<std::uint8_t> smallBrickedBox(std::string_view metadata) {
   const format::GridGeometry grid = cubeGrid({-12, -12, -12}, 1.0f, 24, 2.0f);
   format::BrickOptions options;
   options.brick_size = 4;
-  const auto result = format::encodeBricked(sampleField(grid, boxField({0, 0, 0}, {6.25f, 6.25f, 6.25f})), options,
-                                            R"({"test":"small bricked box"})");
+  const auto result =
+      format::encodeBricked(sampleField(grid, boxField({0, 0, 0}, {6.25f, 6.25f, 6.25f})), options, metadata);
   if (!result.ok()) throw std::runtime_error(result.error);
   return result.bytes;
 }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace dng {
@@ -15,6 +16,8 @@ namespace testing {
 /// 24^3 box field, brick size 4, band 2 voxels, with metadata. Holds every tile kind: far outside
 /// (corners), far inside (core), plane (faces) and brick (edges).
 std::vector<std::uint8_t> smallBrickedBox();
+/// The same box with other META bytes (which need not be JSON, nor even UTF-8).
+std::vector<std::uint8_t> smallBrickedBox(std::string_view metadata);
 /// 6x5x4 dense tilted-plane field with metadata.
 std::vector<std::uint8_t> smallDensePlane();
 

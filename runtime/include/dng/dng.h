@@ -59,6 +59,7 @@ typedef int32_t dng_status;
 #define DNG_BAD_VALUE 22
 #define DNG_SECTION_HASH_MISMATCH 23
 #define DNG_OUT_OF_MEMORY 24
+#define DNG_NONZERO_PADDING 25
 
 /** Static English description of a status; never NULL. */
 DNG_API const char* dng_status_string(dng_status status);

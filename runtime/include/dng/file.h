@@ -3,9 +3,12 @@
 
 #include "dng/view.h"
 
+#include <memory>
+
 namespace dng {
 
-/// Move-only owner of a read-only mapping. The View it hands out is valid while the File lives.
+/// Move-only owner of a read-only mapping. The View it hands out is valid while the File lives, and
+/// keeps its address when the File is moved (into a growing std::vector, say): Bodies point at it.
 class File {
 public:
   File() = default;
@@ -19,15 +22,16 @@ public:
   /// returns the status, leaves `*out_file` empty and fills `out_diag` when given. Never throws.
   static Status open(const char* path, File* out_file, Diagnostic* out_diag = nullptr);
 
-  const View& view() const { return view_; }
-  bool valid() const { return view_.valid(); }
+  /// The validated view; an empty View (valid() false) when the File is empty.
+  const View& view() const;
+  bool valid() const { return view_ != nullptr; }
 
 private:
   void release();
 
   void* mapping_ = nullptr;
   std::size_t mapped_size_ = 0;
-  View view_;
+  std::unique_ptr<View> view_; // on the heap so that moving the File never moves the View
 };
 
 } // namespace dng

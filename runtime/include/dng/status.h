@@ -33,15 +33,19 @@ enum class Status : std::int32_t {
   kBadValue = 22,            ///< a dense voxel holds NaN, infinity, |d| > 1e18 or a normal longer than 1
   kSectionHashMismatch = 23, ///< a section's bytes do not match its hash (verifyHashes only)
   kOutOfMemory = 24,
+  kNonZeroPadding = 25, ///< a byte between sections is not zero (verifyHashes only)
 };
 
 /// Short, static English description of a status ("ok", "file truncated", ...). Never null.
 const char* statusString(Status status);
 
-/// Caller-owned place for the message of a failed call: the status plus a NUL-terminated sentence
-/// that names the broken rule and the numbers involved. Fixed size so filling it never allocates.
+/// Caller-owned place for the message of a failed call: the status, the docs/FORMAT.md rule that
+/// failed as a stable machine-readable ID ("V8"; empty when the failure breaks no file rule, such as a
+/// bad argument), and a NUL-terminated sentence with the numbers involved. Fixed size so filling it
+/// never allocates.
 struct Diagnostic {
   Status status = Status::kOk;
+  char rule[8] = {};
   char message[256] = {};
 };
 

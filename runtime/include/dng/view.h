@@ -2,11 +2,14 @@
 //
 // A View does not own memory. Create it with View::open() over bytes that stay alive and unchanged
 // for as long as the View is used (dng::File owns a mapped file and hands out its View). Opening
-// validates the whole structure once (docs/FORMAT.md §6), in time proportional to the top table;
-// after that every query is const, thread-safe, allocation-free and defined for every input.
+// validates the whole structure once (docs/FORMAT.md §6): for a bricked file in time proportional
+// to its top table (every tile entry is checked), for a dense file to its voxel count (every voxel is
+// checked for finiteness). After that every query is const, thread-safe, allocation-free and defined for every input.
 #pragma once
 
+#include "dng/format/dense_field.h"
 #include "dng/format/layout.h"
+#include "dng/format/limits.h"
 #include "dng/format/vec3.h"
 #include "dng/status.h"
 
@@ -36,12 +39,10 @@ struct Sample {
   SampleStatus status = SampleStatus::kNoField;
 };
 
-/// Grid geometry as decoded from the GRID section.
-struct GridInfo {
-  Vec3f origin; ///< minimum corner, grid-local frame
-  float voxel_size = 0.0f;
-  std::uint32_t dims[3] = {};
-  float band = 0.0f;
+/// The GRID section as decoded: the placement the writer was given (format::GridGeometry: origin, voxel
+/// size, dims, band, the same type and helpers) plus what the encoding added. The writer's input stays
+/// encoding-free because the encoding and its brick options are chosen per encode (BrickOptions).
+struct GridInfo : format::GridGeometry {
   format::Encoding encoding = format::Encoding::kDense;
   std::uint32_t brick_size = 0; ///< 0 for dense
   std::uint32_t brick_dims[3] = {};
@@ -50,13 +51,8 @@ struct GridInfo {
   std::uint32_t flags = 0;           ///< format::kGridFlag* bits (1.1 files; 0 in 1.0 files)
 };
 
-/// Tile counts of a bricked file (all zero for dense), counted once at open.
-struct TileCounts {
-  std::uint64_t far_outside = 0;
-  std::uint64_t far_inside = 0;
-  std::uint64_t plane = 0;
-  std::uint64_t brick = 0;
-};
+/// Tile counts of a bricked file (all zero for dense), counted once at open: the encoder's type.
+using TileCounts = format::TileCounts;
 
 class View {
 public:
@@ -84,7 +80,7 @@ public:
   /// Distance from the surface (local units) within which nearest queries are guaranteed to answer
   /// kInBand with a normal: band - sqrt(3)/2 * voxel_size, because a point belongs to its voxel and
   /// the voxel counts as far when its centre is. A particle system's design speed is this reach / dt.
-  float guaranteedReach() const { return grid_.band - 0.8660254f * grid_.voxel_size; }
+  float guaranteedReach() const { return grid_.band - format::kHalfCubeDiagonal * grid_.voxel_size; }
 
   const GridInfo& grid() const { return grid_; }
   /// True when the file promises that every plane bounds the true distance from below over its cell

@@ -2,7 +2,7 @@
 //
 // Octahedral normal mapping after Cigolle et al., "A Survey of Efficient Representations for
 // Independent Unit Vectors", JCGT 3(2), 2014. Decoding is total: every bit pattern yields a finite
-// unit vector and a finite distance, so a validated file needs no per-query checks (DESIGN.md §3).
+// unit vector and a finite distance, so a validated file needs no per-query checks (docs/DESIGN.md §3).
 //
 // Top entry (64 bits), kind in bits 0-1 (TileKind):
 //   far outside / far inside: bits 2-63 zero

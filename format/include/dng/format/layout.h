@@ -108,6 +108,16 @@ enum class TileKind : std::uint32_t {
   kBrick = 3,      ///< one brick of quantized voxel words in the pool
 };
 
+/// How many tiles of each kind a bricked grid has: what the encoder wrote (EncodeStats::tiles) and
+/// what the reader counted at open (View::tileCounts), one type so the two compare directly. Not on disk.
+struct TileCounts {
+  std::uint64_t far_outside = 0;
+  std::uint64_t far_inside = 0;
+  std::uint64_t plane = 0;
+  std::uint64_t brick = 0;
+  std::uint64_t total() const { return far_outside + far_inside + plane + brick; }
+};
+
 static_assert(sizeof(FileHeader) == 128, "FileHeader is 128 bytes on disk");
 static_assert(offsetof(FileHeader, version_major) == 8);
 static_assert(offsetof(FileHeader, version_minor) == 10);

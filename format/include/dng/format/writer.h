@@ -13,6 +13,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace dng {
@@ -60,26 +61,42 @@ struct BrickOptions {
 /// What an encoder wrote and the largest error it let through, measured over in-band voxels
 /// (|distance| < band) by decoding what it wrote at each voxel centre.
 struct EncodeStats {
-  std::uint64_t far_outside_tiles = 0;
-  std::uint64_t far_inside_tiles = 0;
-  std::uint64_t plane_tiles = 0;
-  std::uint64_t brick_tiles = 0;
+  TileCounts tiles; ///< all zero for dense
   std::uint64_t band_voxels = 0;
   float max_distance_error_voxels = 0.0f;
   float max_normal_error_deg = 0.0f;
   std::uint64_t payload_bytes = 0; ///< bytes of the payload sections (excluding GRID and META)
 };
 
-/// Result of an encode: `error` is empty on success, otherwise `bytes` is empty.
+/// Why an encode failed.
+enum class EncodeError : int {
+  kOk = 0,
+  kInvalidGeometry, ///< checkGeometry refused the grid
+  kInvalidOptions,  ///< brick size or tolerances out of range
+  kInvalidField,    ///< array sizes wrong, or a voxel not finite or beyond format::kMaxMagnitude
+  kTooLarge,        ///< more bricks than the pool index can address
+  kCancelled,       ///< the progress callback asked to stop
+};
+
+/// Result of an encode: on success `code` is kOk and `bytes` the file; otherwise `bytes` is empty and
+/// `error` says why in a sentence for people (programs compare `code`).
 struct EncodeResult {
   std::vector<std::uint8_t> bytes;
   EncodeStats stats;
+  EncodeError code = EncodeError::kOk;
   std::string error;
-  bool ok() const { return error.empty(); }
+  bool ok() const { return code == EncodeError::kOk; }
+  /// Records a failure unless one is recorded already (the first one wins) or `message` is empty
+  /// (the checks return an empty message when they pass).
+  void fail(EncodeError c, std::string message) {
+    if (!ok() || message.empty()) return;
+    code = c;
+    error = std::move(message);
+  }
 };
 
 /// Progress of a long encode: the fraction done in [0, 1], one call at a time (from whichever thread
-/// finished a piece); a false return stops the encode with the error "cancelled". Null: no reports.
+/// finished a piece); a false return stops the encode with EncodeError::kCancelled. Null: no reports.
 struct EncodeProgress {
   bool (*report)(void* user, double fraction) = nullptr;
   void* user = nullptr;

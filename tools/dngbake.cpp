@@ -1,9 +1,9 @@
 // dngbake: bake a mesh into a .dng distance/normal grid. Thin over the baker library: parse options,
-// run bake(), report. Exit codes (docs/BAKING.md): 0 ok, 1 usage, 2 I/O, 3 invalid input, 4 internal,
-// 5 unsupported, 130 interrupted.
-#include "baker.h"
+// run bake(), report. Exit codes: exit_codes.h (docs/BAKING.md).
+#include "dng/baker/bake.h"
 
 #include "command_line.h"
+#include "exit_codes.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -20,13 +20,15 @@
 namespace {
 
 using namespace dng::baker;
+using namespace dng::tools;
 
-constexpr int kExitInterrupted = 130;
 std::atomic<bool> g_interrupted{false};
 
-// The first signal asks the bake to stop at its next progress report (nothing is written). Loading a
-// mesh has none, so a second signal ends the process the default way: a person pressing Ctrl-C twice
-// must not be ignored. signal() and raise() are async-signal-safe.
+// The first signal asks the bake to stop at its next progress report. Once the writes have begun there
+// are none: the bake then finishes and reports success, so what it says is always what happened (the
+// exit code and the report follow bake()'s status, never this flag). Loading a mesh has no reports
+// either, so a second signal ends the process the default way: a person pressing Ctrl-C twice must not
+// be ignored. signal() and raise() are async-signal-safe.
 extern "C" void onSignal(int sig) {
   if (g_interrupted.exchange(true)) {
     std::signal(sig, SIG_DFL);
@@ -100,6 +102,25 @@ void addOptions(CLI::App& app, CommandLine& cl) {
 
 nlohmann::ordered_json vec3(dng::Vec3f v) { return {v.x, v.y, v.z}; }
 
+int exitCodeFor(BakeError error) {
+  switch (error) {
+  case BakeError::kOk: return kExitOk;
+  case BakeError::kBadOption: return kExitUsage;
+  case BakeError::kIo: return kExitIo;
+  case BakeError::kInvalidInput: return kExitInvalid;
+  case BakeError::kInternal: return kExitInternal;
+  case BakeError::kUnsupported: return kExitUnsupported;
+  case BakeError::kCancelled: return kExitInterrupted;
+  }
+  return kExitInternal;
+}
+
+// What the user reads on failure: the status's sentence, or for a cancel what it means for the output.
+std::string failureMessage(const CommandLine& cl, const BakeStatus& status) {
+  if (status.code == BakeError::kCancelled) return "interrupted; " + cl.output + " was not written";
+  return status.message;
+}
+
 nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, const BakeStatus& status) {
   nlohmann::ordered_json j;
   j["format"] = "dngbake-report";
@@ -107,7 +128,7 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
   j["input"] = cl.input;
   j["output"] = cl.output;
   j["ok"] = status.ok();
-  if (!status.ok()) j["error"] = {{"exit_code", int(status.code)}, {"message", status.message}};
+  if (!status.ok()) j["error"] = {{"exit_code", exitCodeFor(status.code)}, {"message", failureMessage(cl, status)}};
   const MeshReport& m = r.mesh;
   j["mesh"] = {{"vertices", m.vertices},
                {"triangles", m.triangles},
@@ -130,10 +151,10 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                {"band", g.band},
                {"band_voxels", g.voxel_size > 0 ? g.band / g.voxel_size : 0.0f}};
   const dng::format::EncodeStats& e = r.encode;
-  j["encoder"] = {{"far_outside_tiles", e.far_outside_tiles},
-                  {"far_inside_tiles", e.far_inside_tiles},
-                  {"plane_tiles", e.plane_tiles},
-                  {"brick_tiles", e.brick_tiles},
+  j["encoder"] = {{"far_outside_tiles", e.tiles.far_outside},
+                  {"far_inside_tiles", e.tiles.far_inside},
+                  {"plane_tiles", e.tiles.plane},
+                  {"brick_tiles", e.tiles.brick},
                   {"band_voxels", e.band_voxels},
                   {"max_distance_error_voxels", e.max_distance_error_voxels},
                   {"max_normal_error_degrees", e.max_normal_error_deg},
@@ -170,19 +191,19 @@ int main(int argc, char** argv) {
   BakeReport report;
   const BakeStatus status = bake(cl.input, {cl.output, cl.export_vdb}, cl.bake, &Progress::update, &progress, &report);
   progress.finish();
-  if (cl.json) std::printf("%s\n", reportJson(cl, report, status).dump(2).c_str());
+  if (cl.json) {
+    const auto json = reportJson(cl, report, status); // paths are bytes, not always UTF-8: never throw
+    std::printf("%s\n", json.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
+  }
   if (!cl.quiet && !cl.json) {
     for (const std::string& w : report.warnings)
       std::fprintf(stderr, "dngbake: warning: %s\n", w.c_str());
   }
-  if (g_interrupted.load()) {
-    std::fprintf(stderr, "dngbake: interrupted; %s was not written\n", cl.output.c_str());
-    return kExitInterrupted;
-  }
   if (!status.ok()) {
-    std::fprintf(stderr, "dngbake: error: %s\n", status.message.c_str());
-    return int(status.code);
+    std::fprintf(stderr, "dngbake: %s%s\n",
+                 status.code == BakeError::kCancelled ? "" : "error: ", failureMessage(cl, status).c_str());
+    return exitCodeFor(status.code);
   }
   if (!cl.quiet && !cl.json) printSummary(cl, report);
-  return 0;
+  return kExitOk;
 }

@@ -93,9 +93,15 @@ int renderSlice(const View& view, const SliceRequest& request) {
   if (!(request.value >= lo && request.value < lo + float(g.dims[request.axis]) * g.voxel_size)) {
     std::fprintf(stderr, "dngdump: error: the slice %c=%g lies outside the grid [%g, %g)\n", "xyz"[request.axis],
                  double(request.value), double(lo), double(lo + float(g.dims[request.axis]) * g.voxel_size));
-    return kUsage;
+    return tools::kExitUsage;
   }
-  const int scale = request.scale > 0 ? request.scale : std::clamp(768 / std::max(nu, nv), 2, 16);
+  const int scale = request.scale > 0 ? request.scale : std::clamp(768 / std::max(nu, nv), 1, 16);
+  // A grid may be 2^24 voxels long: refuse a picture that size rather than fail to allocate it.
+  if (std::int64_t(std::max(nu, nv)) * scale > kMaxSlicePixels) {
+    std::fprintf(stderr, "dngdump: error: a %d x %d voxel slice at %d pixels per voxel exceeds %d pixels per side\n",
+                 nu, nv, scale, kMaxSlicePixels);
+    return tools::kExitUnsupported;
+  }
   Image image;
   image.width = nu * scale;
   image.height = nv * scale;
@@ -133,9 +139,9 @@ int renderSlice(const View& view, const SliceRequest& request) {
     }
   if (!writePng(image, request.png)) {
     std::fprintf(stderr, "dngdump: error: cannot write '%s'\n", request.png.c_str());
-    return kIo;
+    return tools::kExitIo;
   }
-  return kOk;
+  return tools::kExitOk;
 }
 
 } // namespace dump

@@ -1,11 +1,11 @@
 // dngdump: inspect, validate, query and draw .dng files. It reads through the runtime, so it reads
-// exactly what a game reads. Exit codes: 0 ok, 1 usage, 2 I/O, 3 invalid file or input.
+// exactly what a game reads. Exit codes: exit_codes.h (docs/BAKING.md).
 #include "dump.h"
+#include "dump_json.h"
 
 #include "command_line.h"
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <cstring>
@@ -17,6 +17,7 @@ namespace {
 
 using namespace dng;
 using namespace dng::dump;
+using namespace dng::tools;
 
 struct CommandLine {
   std::string file;
@@ -31,27 +32,11 @@ struct CommandLine {
   bool stats = false;
 };
 
-// The stable finding ID: the FORMAT.md rule ("V8") every diagnostic starts with, or IO.
-std::string findingId(const Diagnostic& diag) {
-  if (diag.status == Status::kIoError) return "IO";
-  const char* colon = std::strchr(diag.message, ':');
-  if (diag.message[0] == 'V' && colon != nullptr && colon - diag.message <= 4)
-    return std::string(diag.message, std::size_t(colon - diag.message));
-  return "E" + std::to_string(int(diag.status));
-}
+int exitFor(Status status) { return status == Status::kIoError ? kExitIo : kExitInvalid; }
 
-int exitFor(Status status) { return status == Status::kIoError ? kIo : kInvalid; }
-
+// The rule ID once, then the sentence: "error V8 (file truncated): file is truncated: ...".
 void printFinding(const CommandLine& cl, const Diagnostic& diag) {
-  if (cl.json) {
-    const nlohmann::ordered_json j = {
-        {"format", "dngdump-check"},
-        {"version", 1},
-        {"file", cl.file},
-        {"valid", false},
-        {"findings", {{{"id", findingId(diag)}, {"status", statusString(diag.status)}, {"message", diag.message}}}}};
-    std::printf("%s\n", j.dump(2).c_str());
-  }
+  if (cl.json) printFindingJson(stdout, cl.file, diag);
   std::fprintf(stderr, "dngdump: %s: error %s (%s): %s\n", cl.file.c_str(), findingId(diag).c_str(),
                statusString(diag.status), diag.message);
 }
@@ -60,19 +45,17 @@ int runCheck(const CommandLine& cl, const View& view) {
   Diagnostic diag;
   if (view.verifyHashes(&diag) != Status::kOk) {
     printFinding(cl, diag);
-    return kInvalid;
+    return kExitInvalid;
   }
   if (cl.json) {
-    const nlohmann::ordered_json j = {{"format", "dngdump-check"},
-                                      {"version", 1},
-                                      {"file", cl.file},
-                                      {"valid", true},
-                                      {"findings", nlohmann::json::array()}};
-    std::printf("%s\n", j.dump(2).c_str());
+    const Json j = {
+        {"format", "dngdump-check"}, {"version", 1}, {"file", cl.file}, {"valid", true}, {"findings", Json::array()}};
+    std::printf("%s\n", toText(j).c_str());
   } else {
-    std::printf("%s: valid (rules V1-V17 of docs/FORMAT.md, every section hash checked)\n", cl.file.c_str());
+    std::printf("%s: valid (rules V1-V18 of docs/FORMAT.md: every section hash and the padding checked)\n",
+                cl.file.c_str());
   }
-  return kOk;
+  return kExitOk;
 }
 
 // One point per line, "x y z"; the answers come out in the same order, one line each.
@@ -82,7 +65,7 @@ int runQuery(const CommandLine& cl, const View& view) {
     file.open(cl.points);
     if (!file) {
       std::fprintf(stderr, "dngdump: error: cannot read points from '%s'\n", cl.points.c_str());
-      return kIo;
+      return kExitIo;
     }
   }
   std::istream& in = cl.points.empty() ? std::cin : file;
@@ -107,7 +90,7 @@ int runQuery(const CommandLine& cl, const View& view) {
                   double(s.normal.z));
     }
   }
-  return bad_lines == 0 ? kOk : kInvalid;
+  return bad_lines == 0 ? kExitOk : kExitInvalid;
 }
 
 int runSlice(const CommandLine& cl, const View& view) {
@@ -115,7 +98,7 @@ int runSlice(const CommandLine& cl, const View& view) {
   const std::string& s = cl.slice;
   if (s.size() < 3 || std::strchr("xyz", s[0]) == nullptr || s[1] != '=') {
     std::fprintf(stderr, "dngdump: error: --slice takes x=VALUE, y=VALUE or z=VALUE, got \"%s\"\n", s.c_str());
-    return kUsage;
+    return kExitUsage;
   }
   try {
     std::size_t used = 0;
@@ -123,7 +106,7 @@ int runSlice(const CommandLine& cl, const View& view) {
     if (used != s.size() - 2) throw std::invalid_argument(s);
   } catch (const std::exception&) {
     std::fprintf(stderr, "dngdump: error: --slice value \"%s\" is not a number\n", s.substr(2).c_str());
-    return kUsage;
+    return kExitUsage;
   }
   request.axis = s[0] - 'x';
   request.scale = cl.scale;
@@ -131,21 +114,42 @@ int runSlice(const CommandLine& cl, const View& view) {
   return renderSlice(view, request);
 }
 
+// Exactly one mode runs: the summary (no mode option), --check, --query, --slice or --stats. The
+// options that only make sense with one mode need it, so nothing given is ever silently ignored.
 void addOptions(CLI::App& app, CommandLine& cl) {
   app.add_option("file", cl.file, "the .dng file")->required();
-  app.add_flag("--json", cl.json, "machine-readable output (summary, --check or --stats)");
-  app.add_flag("--check", cl.check, "full validation including every section hash; exit 0 only if valid");
-  app.add_flag("--query", cl.query, "read \"x y z\" lines (stdin or --points), write \"distance nx ny nz\" or none");
-  app.add_option("--points", cl.points, "file of points for --query");
-  app.add_flag("--trilinear", cl.trilinear, "--query with trilinear interpolation instead of nearest");
+  auto* json = app.add_flag("--json", cl.json, "machine-readable output (summary, --check or --stats)");
+  auto* check = app.add_flag("--check", cl.check, "full validation including every section hash; exit 0 only if valid");
+  auto* query = app.add_flag("--query", cl.query,
+                             "read \"x y z\" lines (stdin or --points), write \"distance nx ny nz\" or none");
+  app.add_option("--points", cl.points, "file of points for --query")->needs(query);
+  app.add_flag("--trilinear", cl.trilinear, "--query with trilinear interpolation instead of nearest")->needs(query);
   auto* slice = app.add_option("--slice", cl.slice, "x=VALUE, y=VALUE or z=VALUE (grid-local), with --png");
   auto* png = app.add_option("--png", cl.png, "where --slice writes its picture");
   slice->needs(png);
   png->needs(slice);
   app.add_option("--scale", cl.scale, "--slice pixels per voxel (default: about 768 pixels across)")
-      ->check(CLI::Range(1, 64));
-  app.add_flag("--stats", cl.stats, "histograms of distance and of normal deviation, band coverage");
+      ->check(CLI::Range(1, 64))
+      ->needs(slice);
+  auto* stats = app.add_flag("--stats", cl.stats, "histograms of distance and of normal deviation, band coverage");
+  check->excludes(query)->excludes(slice)->excludes(stats);
+  query->excludes(slice)->excludes(stats)->excludes(json);
+  slice->excludes(stats)->excludes(json);
   app.set_version_flag("--version", DNG_TOOL_VERSION);
+}
+
+int run(const CommandLine& cl, const View& view) {
+  if (cl.check) return runCheck(cl, view);
+  if (cl.query) return runQuery(cl, view);
+  if (!cl.slice.empty()) return runSlice(cl, view);
+  if (cl.stats) {
+    printStats(stdout, view, cl.json);
+  } else if (cl.json) {
+    printJson(stdout, cl.file, view);
+  } else {
+    printSummary(stdout, cl.file, view);
+  }
+  return kExitOk;
 }
 
 } // namespace
@@ -161,18 +165,11 @@ int main(int argc, char** argv) {
     printFinding(cl, diag);
     return exitFor(diag.status);
   }
-  const View& view = file.view();
-  if (cl.check) return runCheck(cl, view);
-  if (cl.query) return runQuery(cl, view);
-  if (!cl.slice.empty()) return runSlice(cl, view);
-  if (cl.stats) {
-    printStats(view, cl.json);
-    return kOk;
+  // The reports allocate (the slice picture, JSON); running out of memory is an error, not an abort.
+  try {
+    return run(cl, file.view());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dngdump: %s: internal error: %s\n", cl.file.c_str(), e.what());
+    return kExitInternal;
   }
-  if (cl.json) {
-    printJson(cl.file, view);
-  } else {
-    printSummary(cl.file, view);
-  }
-  return kOk;
 }

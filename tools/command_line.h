@@ -2,6 +2,8 @@
 // tools' documented ones: 0 after --help or --version, 1 for any usage error.
 #pragma once
 
+#include "exit_codes.h"
+
 #include <CLI/CLI.hpp>
 
 namespace dng {
@@ -14,7 +16,7 @@ inline int parseOrExitCode(CLI::App& app, int argc, char** argv) {
     app.parse(argc, argv);
     return -1;
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 1;
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
   }
 }
 

@@ -1,7 +1,8 @@
 // dngdump's reports: what is in a file, for people (summary) and programs (--json), and --stats.
 #include "dump.h"
+#include "dump_json.h"
 
-#include <nlohmann/json.hpp>
+#include <algorithm>
 
 #include <cmath>
 #include <cstdio>
@@ -10,8 +11,6 @@ namespace dng {
 namespace dump {
 
 namespace {
-
-using Json = nlohmann::ordered_json;
 
 const char* encodingName(const GridInfo& g) { return g.encoding == format::Encoding::kDense ? "dense" : "bricked"; }
 
@@ -26,13 +25,6 @@ std::uint64_t bandVoxels(const View& view) {
         count += view.sample(c).status == SampleStatus::kInBand ? 1 : 0;
       }
   return count;
-}
-
-Json metadataJson(const View& view) {
-  const std::string_view text = view.metadata();
-  if (text.empty()) return nullptr;
-  Json parsed = Json::parse(text.begin(), text.end(), nullptr, false);
-  return parsed.is_discarded() ? Json(std::string(text)) : parsed; // keep unparsable text as a string
 }
 
 Json reportJson(const std::string& path, const View& view) {
@@ -61,47 +53,50 @@ Json reportJson(const std::string& path, const View& view) {
   j["file_bytes"] = view.sizeBytes();
   j["bytes_per_voxel"] = double(view.sizeBytes()) / voxels;
   j["bytes_per_band_voxel"] = band > 0 ? double(view.sizeBytes()) / double(band) : 0.0;
-  j["metadata"] = metadataJson(view);
+  j["metadata"] = metadataJson(view.metadata());
   return j;
 }
 
 } // namespace
 
-void printJson(const std::string& path, const View& view) {
-  std::printf("%s\n", reportJson(path, view).dump(2).c_str());
+void printJson(std::FILE* out, const std::string& path, const View& view) {
+  std::fprintf(out, "%s\n", toText(reportJson(path, view)).c_str());
 }
 
-void printSummary(const std::string& path, const View& view) {
+void printSummary(std::FILE* out, const std::string& path, const View& view) {
   const Json j = reportJson(path, view);
   const GridInfo& g = view.grid();
-  std::printf("%s: .dng version %s, %s", path.c_str(), j["format_version"].get<std::string>().c_str(), encodingName(g));
-  if (g.encoding == format::Encoding::kBricked) std::printf(" (bricks of %u)", g.brick_size);
-  std::printf("\n  grid       %u x %u x %u voxels of %g\n", g.dims[0], g.dims[1], g.dims[2], double(g.voxel_size));
-  std::printf("  bounds     (%g, %g, %g) .. (%g, %g, %g)\n", double(g.origin.x), double(g.origin.y), double(g.origin.z),
-              j["bounds_max"][0].get<double>(), j["bounds_max"][1].get<double>(), j["bounds_max"][2].get<double>());
-  std::printf("  band       %g (%.3g voxels); guaranteed reach %g\n", double(g.band), double(g.band / g.voxel_size),
-              double(view.guaranteedReach()));
-  std::printf("  planes     %s\n", view.conservativePlanes()
-                                       ? "conservative (a lower bound of the distance over each voxel)"
-                                       : "as written (no conservative-plane promise)");
+  std::fprintf(out, "%s: .dng version %s, %s", path.c_str(), j["format_version"].get<std::string>().c_str(),
+               encodingName(g));
+  if (g.encoding == format::Encoding::kBricked) std::fprintf(out, " (bricks of %u)", g.brick_size);
+  std::fprintf(out, "\n  grid       %u x %u x %u voxels of %g\n", g.dims[0], g.dims[1], g.dims[2],
+               double(g.voxel_size));
+  std::fprintf(out, "  bounds     (%g, %g, %g) .. (%g, %g, %g)\n", double(g.origin.x), double(g.origin.y),
+               double(g.origin.z), j["bounds_max"][0].get<double>(), j["bounds_max"][1].get<double>(),
+               j["bounds_max"][2].get<double>());
+  std::fprintf(out, "  band       %g (%.3g voxels); guaranteed reach %g\n", double(g.band),
+               double(g.band / g.voxel_size), double(view.guaranteedReach()));
+  std::fprintf(out, "  planes     %s\n",
+               view.conservativePlanes() ? "conservative (a lower bound of the distance over each voxel)"
+                                         : "as written (no conservative-plane promise)");
   if (g.encoding == format::Encoding::kBricked) {
     const TileCounts& t = view.tileCounts();
-    std::printf("  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",
-                (unsigned long long)t.far_outside, (unsigned long long)t.far_inside, (unsigned long long)t.plane,
-                (unsigned long long)t.brick);
+    std::fprintf(out, "  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",
+                 (unsigned long long)t.far_outside, (unsigned long long)t.far_inside, (unsigned long long)t.plane,
+                 (unsigned long long)t.brick);
   }
-  std::printf("  size       %zu bytes: %.3g per voxel, %.3g per band voxel (%llu voxels in band)\n", view.sizeBytes(),
-              j["bytes_per_voxel"].get<double>(), j["bytes_per_band_voxel"].get<double>(),
-              (unsigned long long)j["voxels_in_band"].get<std::uint64_t>());
+  std::fprintf(out, "  size       %zu bytes: %.3g per voxel, %.3g per band voxel (%llu voxels in band)\n",
+               view.sizeBytes(), j["bytes_per_voxel"].get<double>(), j["bytes_per_band_voxel"].get<double>(),
+               (unsigned long long)j["voxels_in_band"].get<std::uint64_t>());
   const Json& meta = j["metadata"];
   if (meta.is_null()) {
-    std::printf("  metadata   none\n");
+    std::fprintf(out, "  metadata   none\n");
   } else {
-    std::printf("  metadata   %s\n", meta.dump().c_str());
+    std::fprintf(out, "  metadata   %s\n", toText(meta, -1).c_str());
   }
 }
 
-void printStats(const View& view, bool json) {
+void printStats(std::FILE* out, const View& view, bool json) {
   const GridInfo& g = view.grid();
   constexpr int kBins = 10;
   std::uint64_t distance_bins[kBins] = {}, angle_bins[kBins] = {}, band = 0, total = 0;
@@ -138,18 +133,35 @@ void printStats(const View& view, bool json) {
   j["distance_histogram"] = {{"from", -g.band}, {"to", g.band}, {"counts", distance_bins}};
   j["neighbour_normal_deviation_degrees"] = {{"upper_edges", angle_edges}, {"counts", angle_bins}};
   if (json) {
-    std::printf("%s\n", j.dump(2).c_str());
+    std::fprintf(out, "%s\n", toText(j).c_str());
     return;
   }
-  std::printf("band coverage: %.4g%% of %llu voxels\n", 100.0 * j["band_coverage"].get<double>(),
-              (unsigned long long)total);
-  std::printf("distance (voxel centres in band), %d bins from %g to %g:\n", kBins, double(-g.band), double(g.band));
+  std::fprintf(out, "band coverage: %.4g%% of %llu voxels\n", 100.0 * j["band_coverage"].get<double>(),
+               (unsigned long long)total);
+  std::fprintf(out, "distance (voxel centres in band), %d bins from %g to %g:\n", kBins, double(-g.band),
+               double(g.band));
   for (int b = 0; b < kBins; ++b)
-    std::printf("  [%8.4g, %8.4g) %llu\n", -double(g.band) + 2.0 * g.band * b / kBins,
-                -double(g.band) + 2.0 * g.band * (b + 1) / kBins, (unsigned long long)distance_bins[b]);
-  std::printf("normal deviation between neighbouring voxels in band (x, y and z), degrees:\n");
+    std::fprintf(out, "  [%8.4g, %8.4g) %llu\n", -double(g.band) + 2.0 * g.band * b / kBins,
+                 -double(g.band) + 2.0 * g.band * (b + 1) / kBins, (unsigned long long)distance_bins[b]);
+  std::fprintf(out, "normal deviation between neighbouring voxels in band (x, y and z), degrees:\n");
   for (int b = 0; b < kBins; ++b)
-    std::printf("  <= %5g %llu\n", double(angle_edges[b]), (unsigned long long)angle_bins[b]);
+    std::fprintf(out, "  <= %5g %llu\n", double(angle_edges[b]), (unsigned long long)angle_bins[b]);
+}
+
+std::string findingId(const Diagnostic& diag) {
+  if (diag.rule[0] != '\0') return diag.rule;
+  if (diag.status == Status::kIoError) return "IO";
+  return "E" + std::to_string(int(diag.status));
+}
+
+void printFindingJson(std::FILE* out, const std::string& path, const Diagnostic& diag) {
+  const Json j = {
+      {"format", "dngdump-check"},
+      {"version", 1},
+      {"file", path},
+      {"valid", false},
+      {"findings", {{{"id", findingId(diag)}, {"status", statusString(diag.status)}, {"message", diag.message}}}}};
+  std::fprintf(out, "%s\n", toText(j).c_str());
 }
 
 } // namespace dump
