@@ -23,7 +23,7 @@ WERROR="${DNG_WERROR:-OFF}"
 PACKAGES_BUILD=(cmake ninja-build g++ pkg-config clang-format bc)
 PACKAGES_TEST=(libgtest-dev libgmock-dev libbenchmark-dev libxxhash-dev)
 PACKAGES_BAKER=(libopenmesh-dev libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev libcli11-dev
-                libtbb-dev libpng-dev nlohmann-json3-dev libxxhash-dev)
+                libtbb-dev libpng-dev nlohmann-json3-dev libxxhash-dev libtinygltf-dev libassimp-dev)
 
 log() { printf 'setup.sh: %s\n' "$*" >&2; }
 
@@ -76,13 +76,14 @@ cmd_asan() {
 # format/ or runtime/ source includes their headers (which are installed on this machine).
 cmd_runtime_only() {
   install_packages "${PACKAGES_BUILD[@]}" libgtest-dev libgmock-dev
-  if grep -rnE '#include *[<"](openvdb|nanovdb|embree[34]?|OpenMesh|CLI|tbb|oneapi)/' "$ROOT/format" "$ROOT/runtime"; then
+  if grep -rnE '#include *[<"](openvdb|nanovdb|embree[34]?|OpenMesh|CLI|tbb|oneapi|assimp)/|tiny_gltf' "$ROOT/format" "$ROOT/runtime"; then
     log "format/ or runtime/ includes a baker library header"; exit 1
   fi
   configure_and_build "$ROOT/build/runtime-only" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BAKER=OFF \
     -DDNG_BUILD_BENCH=OFF -DDNG_BUILD_TESTS=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON \
     -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON \
-    -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON
+    -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON \
+    -DCMAKE_DISABLE_FIND_PACKAGE_TinyGLTF=ON -DCMAKE_DISABLE_FIND_PACKAGE_assimp=ON
   run_tests "$ROOT/build/runtime-only"
 }
 

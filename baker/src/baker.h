@@ -1,5 +1,6 @@
 // The baker's stages, declared in one place (DESIGN.md §4). Each stage lives in its own .cpp:
 //   load_mesh.cpp   OpenMesh parsing into a triangle soup
+//   import_*.cpp    one importer per family of formats behind one interface (import.h)
 //   reader_guards.cpp   checks for inputs OpenMesh's readers mishandle, run before them
 //   check_mesh.cpp  mesh diagnostics and the "can this be baked" decision
 //   closest_point.cpp   Embree closest-point queries
@@ -19,6 +20,7 @@
 #include "band_grid.h"
 #include "dng/format/vec3.h"
 #include "dng/format/writer.h"
+#include "import.h"
 
 #include <array>
 #include <cstdint>
@@ -226,8 +228,17 @@ struct BakeReport {
   std::string source_hash; ///< XXH64 of the input file, hex
   std::string sign;        ///< the sign method used: "winding" or "pseudonormal"
   std::vector<std::pair<std::string, double>> stage_seconds;
-  std::uint64_t band_blocks = 0;       ///< 8^3 leaves of the working store holding band voxels
-  std::uint64_t peak_memory_bytes = 0; ///< the process's peak resident memory when the bake ended
+  std::uint64_t band_blocks = 0;           ///< 8^3 leaves of the working store holding band voxels
+  std::uint64_t peak_memory_bytes = 0;     ///< the process's peak resident memory when the bake ended
+  std::vector<ImportReport> inputs;        ///< one per input file, in order
+  LengthUnit units = LengthUnit::kUnknown; ///< the field's length unit
+};
+
+/// The files to bake into one field (their union) and how to read them (import.h).
+struct BakeInputs {
+  std::vector<std::string> paths;
+  ImportOptions import;
+  UnitOptions units;
 };
 
 /// Where the optional extra outputs go; empty means none.
@@ -240,6 +251,9 @@ struct BakeOutputs {
 /// when set) atomically.
 BakeStatus bake(const std::string& input_path, const BakeOutputs& outputs, const BakeOptions& options,
                 ProgressFn progress, void* progress_user, BakeReport* out_report);
+/// The same over several inputs, scene selection and units.
+BakeStatus bake(const BakeInputs& inputs, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
+                void* progress_user, BakeReport* out_report);
 
 /// Writes the band as two OpenVDB grids, "distance" (a level set: FloatGrid, background = band,
 /// active = band voxels) and "normal" (Vec3SGrid), in the .dng's world placement, to `path` atomically.
