@@ -6,10 +6,13 @@
 #   bash setup.sh deps           only install the Debian packages the project needs
 #   bash setup.sh asan           build and test with AddressSanitizer + UndefinedBehaviorSanitizer
 #   bash setup.sh runtime-only   build and test format + runtime with the baker and its libraries off
+#   bash setup.sh package        install (full and runtime-only) into temporary prefixes, build C and C++
+#                                consumers against them, check libdngrid's exported symbols
 #   bash setup.sh format-check   check clang-format on every source file
 #   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
 #   bash setup.sh fuzz [SECONDS] fuzz the .dng loader (default 60 s) and replay the mesh regressions
 #   bash setup.sh fuzz-meshes [SECONDS]  fuzz mesh loading, open-ended (default 300 s)
+#   bash setup.sh fuzz-scenes [SECONDS]  fuzz the glTF importer, open-ended (default 300 s)
 #
 # Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
 # Every command installs what it needs first; running it twice does no extra work.
@@ -79,12 +82,62 @@ cmd_runtime_only() {
   if grep -rnE '#include *[<"](openvdb|nanovdb|embree[34]?|OpenMesh|CLI|tbb|oneapi|assimp)/|tiny_gltf' "$ROOT/format" "$ROOT/runtime"; then
     log "format/ or runtime/ includes a baker library header"; exit 1
   fi
-  configure_and_build "$ROOT/build/runtime-only" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BAKER=OFF \
-    -DDNG_BUILD_BENCH=OFF -DDNG_BUILD_TESTS=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON \
-    -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON \
-    -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON \
-    -DCMAKE_DISABLE_FIND_PACKAGE_TinyGLTF=ON -DCMAKE_DISABLE_FIND_PACKAGE_assimp=ON
+  configure_and_build "$ROOT/build/runtime-only" "${RUNTIME_ONLY_FLAGS[@]}"
   run_tests "$ROOT/build/runtime-only"
+}
+
+# Runtime-only build flags: every baker library made unfindable.
+RUNTIME_ONLY_FLAGS=(-DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_BENCH=OFF -DDNG_BUILD_TESTS=ON
+  -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON
+  -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON
+  -DCMAKE_DISABLE_FIND_PACKAGE_TinyGLTF=ON -DCMAKE_DISABLE_FIND_PACKAGE_assimp=ON)
+
+# check_install <prefix> <file.dng> <ON|OFF: baker expected>: what a user of the installed tree does.
+check_install() {
+  local prefix="$1" dng="$2" baker="$3" work="$1/consumers"
+  mkdir -p "$work"
+  local pc_dir
+  pc_dir=$(dirname "$(find "$prefix" -name dngrid.pc | head -n 1)")
+  [ -f "$pc_dir/dngrid.pc" ] || { log "no dngrid.pc under $prefix"; exit 1; }
+  local cflags libs libdir
+  cflags=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --cflags dngrid)
+  libs=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --libs dngrid)
+  libdir=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --variable=libdir dngrid)
+  # shellcheck disable=SC2086 # the flags are words
+  cc -std=c99 -Wall -Wextra -pedantic -Werror "$ROOT/tests/install/c_consumer.c" $cflags $libs \
+    -Wl,-rpath,"$libdir" -o "$work/c_consumer"
+  "$work/c_consumer" "$dng"
+  cmake -S "$ROOT/tests/install/cpp_consumer" -B "$work/cpp" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$prefix" -DDNG_EXPECT_BAKER="$baker" >/dev/null
+  cmake --build "$work/cpp" >/dev/null
+  "$work/cpp/cpp_consumer" "$dng"
+  sh "$ROOT/tests/check_exports.sh" "$libdir/libdngrid.so" "$ROOT/tests/abi/libdngrid.symbols"
+  if [ "$baker" = ON ]; then
+    [ -x "$prefix/bin/dngbake" ] && [ -x "$prefix/bin/dngdump" ] || { log "tools not installed"; exit 1; }
+  elif [ -e "$prefix/bin/dngbake" ]; then
+    log "the runtime-only install has dngbake"; exit 1
+  fi
+}
+
+# Installs the full build and the runtime-only build into temporary prefixes and builds programs
+# against each as an outside project would: C through pkg-config, C++ through find_package(dngrid).
+PACKAGE_TMP=""
+cmd_package() {
+  deps
+  PACKAGE_TMP=$(mktemp -d)
+  trap 'rm -rf "$PACKAGE_TMP"' EXIT
+  local tmp="$PACKAGE_TMP"
+  configure_and_build "$ROOT/build/release" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_TESTS=ON
+  cmake --install "$ROOT/build/release" --prefix "$tmp/full" >/dev/null
+  # A cube, baked by the installed dngbake, for the consumers to open.
+  printf 'OFF\n8 6 0\n-1 -1 -1\n1 -1 -1\n-1 1 -1\n1 1 -1\n-1 -1 1\n1 -1 1\n-1 1 1\n1 1 1\n4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n' >"$tmp/cube.off"
+  "$tmp/full/bin/dngbake" "$tmp/cube.off" -o "$tmp/cube.dng" --resolution 32 --quiet
+  "$tmp/full/bin/dngdump" "$tmp/cube.dng" --check
+  check_install "$tmp/full" "$tmp/cube.dng" ON
+  configure_and_build "$ROOT/build/runtime-only" "${RUNTIME_ONLY_FLAGS[@]}"
+  cmake --install "$ROOT/build/runtime-only" --prefix "$tmp/runtime" >/dev/null
+  check_install "$tmp/runtime" "$tmp/cube.dng" OFF
+  log "package: full and runtime-only installs build and run C and C++ consumers"
 }
 
 cmd_format_check() {
@@ -105,7 +158,7 @@ fetch_data() {
 }
 
 build_fuzzers() {
-  install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev libopenmesh-dev
+  install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev libopenmesh-dev libtinygltf-dev
   CC=clang CXX=clang++ configure_and_build "$ROOT/build/fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDNG_BUILD_FUZZ=ON \
     -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF
 }
@@ -120,6 +173,18 @@ cmd_fuzz() {
   cp "$ROOT"/tests/golden/*.dng "$corpus/"
   "$build/tests/fuzz/fuzz_open" -max_total_time="${1:-60}" -max_len=65536 -print_final_stats=1 "$corpus"
   "$build/tests/fuzz/fuzz_mesh" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/mesh_regressions/*
+  "$build/tests/fuzz/fuzz_gltf" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/gltf_regressions/*
+}
+
+# libFuzzer on the glTF importer, seeded with a one-triangle .gltf (embedded buffer) and .glb.
+cmd_fuzz_scenes() {
+  build_fuzzers
+  local build="$ROOT/build/fuzz" scenes="$ROOT/build/fuzz/gltf_corpus"
+  mkdir -p "$scenes"
+  cp "$ROOT"/tests/fuzz/gltf_regressions/* "$scenes/"
+  "$build/tests/fuzz/fuzz_gltf" -max_total_time="${1:-300}" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
+    -dict="$ROOT/tests/fuzz/gltf.dict" \
+    -print_final_stats=1 "$scenes"
 }
 
 # libFuzzer on mesh loading, seeded with one triangle per format and the regressions.
@@ -189,10 +254,12 @@ case "${1:-}" in
   test) cmd_test ;;
   asan) cmd_asan ;;
   runtime-only) cmd_runtime_only ;;
+  package) cmd_package ;;
   format-check) cmd_format_check ;;
   bench) cmd_bench ;;
   fuzz) cmd_fuzz "${2:-60}" ;;
   fuzz-meshes) cmd_fuzz_meshes "${2:-300}" ;;
+  fuzz-scenes) cmd_fuzz_scenes "${2:-300}" ;;
   demo) cmd_demo ;;
-  *) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
+  *) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
 esac
