@@ -2,8 +2,8 @@
  *
  * Plain C89-compatible declarations: opaque handles, fixed-width integers and size_t only, a status
  * code on every call that can fail plus an optional message buffer the caller supplies. Nothing here
- * throws, aborts or allocates except the create/open calls. Thread safety: a dng_field may be sampled
- * from any number of threads; a dng_scene must not be changed while it is being stepped.
+ * throws, aborts or allocates except the create/open calls and dng_scene_add_body. Thread safety: a dng_field may be
+ * sampled from any number of threads; a dng_scene must not be changed while it is being stepped.
  *
  * Check at start-up that the library matches the header you compiled against:
  *   if (!dng_version_compatible(DNG_VERSION)) { ... }
