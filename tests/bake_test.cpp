@@ -100,8 +100,14 @@ TEST_P(BakeSign, ExactModeDistancesAndSignsMatchBruteForce) {
       const Sample s = view.sample(c);
       const bool inside = testing::bruteWinding(shape.mesh, c) > 0.5;
       const float truth = testing::bruteDistance(shape.mesh, c) * (inside ? -1.0f : 1.0f);
-      ASSERT_NEAR(s.distance, truth, 0.05f * h) << c.x << " " << c.y << " " << c.z;
-      ASSERT_EQ(s.distance < 0.0f, inside);
+      // Planes are lowered to bound the distance from below over their cells (never raised): by a few
+      // hundredths of a voxel on flat and convex parts, by up to a fifth between the faceted torus's
+      // concave facets. Inside, values only have to stay negative and are rounded to the nearest code.
+      ASSERT_LE(s.distance, std::max(truth, 0.0f) + 1e-5f * h) << c.x << " " << c.y << " " << c.z;
+      ASSERT_NEAR(s.distance, truth, 0.25f * h) << c.x << " " << c.y << " " << c.z;
+      if (inside) {
+        ASSERT_LT(s.distance, 0.0f);
+      }
     }
   }
 }
@@ -177,8 +183,49 @@ TEST_F(BakeTest, FlatFaceNormalsInExactAndNormalBlurModes) {
   }
 }
 
-// Blurred modes keep the exact distances (only normals change): same 0.25-voxel promise, and every
-// normal near the surface points away from it.
+// The promise the runtime's walk rests on (docs/FORMAT.md §5): anywhere in a voxel's cell, not only at
+// its centre, a field value >= 0 is at most the true signed distance (so it proves the point outside
+// and a ball of that radius clear). Checked at random points
+// against brute force over the triangles, on shapes with concave creases, thin parts and curvature,
+// in every normal mode.
+TEST_F(BakeTest, PlanesBoundTheTrueDistanceAnywhereInTheirCells) {
+  const std::vector<Shape> shapes = {
+      {"notch", testing::lBlockMesh({-1.0f, -1.0f, -0.4f}, 1.0f, 0.8f)},
+      {"plate", testing::boxMesh({0, 0, 0}, {1.0f, 0.8f, 0.012f})}, // a quarter of a voxel thick
+      {"torus", testing::torusMesh({0, 0, 0}, 1.0f, 0.35f, 32, 16), {1.0f, 0, 0}}};
+  for (const Shape& shape : shapes) {
+    for (NormalMode mode : {NormalMode::kExact, NormalMode::kNormalBlur, NormalMode::kPotential}) {
+      SCOPED_TRACE(std::string(shape.name) + " " + normalModeName(mode));
+      BakeOptions options = exactOptions();
+      options.mode = mode;
+      const File file = bakeMesh(shape.mesh, shape.name, options);
+      const View& view = file.view();
+      ASSERT_TRUE(view.conservativePlanes());
+      const GridInfo& g = view.grid();
+      std::mt19937 rng(11);
+      std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+      int checked = 0;
+      for (int tries = 0; tries < 200000 && checked < 2000; ++tries) {
+        const Vec3f p =
+            g.origin + Vec3f{unit(rng) * float(g.dims[0]), unit(rng) * float(g.dims[1]), unit(rng) * float(g.dims[2])} *
+                           g.voxel_size;
+        const Sample s = view.sample(p);
+        if (s.status != SampleStatus::kInBand) continue;
+        ++checked;
+        const float truth =
+            testing::bruteDistance(shape.mesh, p) * (testing::bruteWinding(shape.mesh, p) > 0.5 ? -1.0f : 1.0f);
+        if (s.distance >= 0.0f) {
+          ASSERT_LE(s.distance, truth + 1e-4f * g.voxel_size) << p.x << " " << p.y << " " << p.z;
+        }
+      }
+      EXPECT_EQ(checked, 2000);
+    }
+  }
+}
+
+// Blurred modes keep the exact distances but for the conservative lowering, which their tilted normals
+// make larger (up to about half a voxel here, by the tilt between a blurred normal and the distance's
+// gradient), and every normal near the surface points away from it.
 TEST_F(BakeTest, BlurredModesKeepDistancesAndOutwardNormals) {
   const Mesh sphere = testing::sphereMesh({0, 0, 0}, 1.0f, 32, 16);
   for (NormalMode mode : {NormalMode::kNormalBlur, NormalMode::kPotential}) {
@@ -189,7 +236,9 @@ TEST_F(BakeTest, BlurredModesKeepDistancesAndOutwardNormals) {
     for (const Vec3f& c : bandCentres(file.view(), 800, 7)) {
       const Sample s = file.view().sample(c);
       const bool inside = testing::bruteWinding(sphere, c) > 0.5;
-      ASSERT_NEAR(s.distance, testing::bruteDistance(sphere, c) * (inside ? -1.0f : 1.0f), 0.25f * h);
+      const float truth = testing::bruteDistance(sphere, c) * (inside ? -1.0f : 1.0f);
+      ASSERT_LE(s.distance, std::max(truth, 0.0f) + 1e-5f * h);
+      ASSERT_NEAR(s.distance, truth, 0.75f * h);
       ASSERT_GT(dot(s.normal, normalizeOrZero(c)), 0.5f) << normalModeName(mode) << " at " << c.x << " " << c.y << " "
                                                          << c.z << " d " << s.distance << " r " << length(c);
     }

@@ -27,7 +27,6 @@ static void test_versions(void) {
   CHECK(dng_version_compatible(((uint32_t)(DNG_VERSION_MAJOR + 1) << 16)) == 0);
   CHECK(strcmp(dng_status_string(DNG_TRUNCATED), "file truncated") == 0);
   CHECK(strcmp(dng_version_string(), DNG_VERSION_STRING) == 0);
-  CHECK(strcmp(dng_format_version_string(), "1.0") == 0);
 }
 
 static void test_info(const dng_field* box) {
@@ -45,6 +44,12 @@ static void test_info(const dng_field* box) {
   CHECK(info.encoding == DNG_ENCODING_BRICKED);
   CHECK(info.brick_size > 0);
   CHECK(info.format_version[0] == 1);
+  {
+    /* The golden file was written by this tree's writer: the newest version, which the library reads. */
+    char newest[16];
+    snprintf(newest, sizeof newest, "%u.%u", (unsigned)info.format_version[0], (unsigned)info.format_version[1]);
+    CHECK(strcmp(dng_format_version_string(), newest) == 0);
+  }
   CHECK(info.file_bytes > 0);
   CHECK(dng_field_get_info(NULL, &info) == DNG_INVALID_ARGUMENT);
   CHECK(dng_field_get_info(box, NULL) == DNG_INVALID_ARGUMENT);

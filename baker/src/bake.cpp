@@ -86,6 +86,7 @@ std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, co
                         {"brick_size", o.brick.brick_size},
                         {"tolerance_voxels", o.brick.tolerance_distance},
                         {"tolerance_degrees", o.brick.tolerance_normal_deg}};
+  meta["conservative_planes"] = (g.flags & format::kGridFlagConservativePlanes) != 0;
   meta["source"] = sourceJson(report);
   meta["units"] = unitsJson(report);
   return meta.dump();
@@ -174,6 +175,10 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return BakeStatus::cancelled();
+  status = makePlanesConservative(options.mode == NormalMode::kExact, progress, user, &band);
+  if (!status.ok()) return status;
+  report->grid.flags = band.grid().flags;
+  timer.done("conservative");
 
   const std::string meta = metadataJson(options, report->grid, *report);
   StageProgress encode_progress{progress, user, "encode"};

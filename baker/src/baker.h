@@ -199,6 +199,12 @@ BakeStatus computeDistanceField(const TriangleSoup& soup, const PseudonormalSign
 BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, ProgressFn progress,
                            void* progress_user, BandGrid* io);
 
+/// Lowers every band voxel's distance until its plane, d + n . (p - c), is at most the true signed
+/// distance everywhere in the voxel's cell (conservative_planes.cpp says how the bound is found), and
+/// marks the grid format::kGridFlagConservativePlanes. Runs after the normals are final; with exact
+/// normals the tangent part of the bound is zero. Reports stage "conservative"; cancel as the others.
+BakeStatus makePlanesConservative(bool exact_normals, ProgressFn progress, void* progress_user, BandGrid* io);
+
 /// A voxel the surface overlaps, with the average normal of the triangles overlapping it.
 struct SurfaceVoxel {
   std::array<std::int32_t, 3> ijk;

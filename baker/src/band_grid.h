@@ -49,6 +49,8 @@ public:
   BandGrid& operator=(const BandGrid&) = delete;
 
   const format::GridGeometry& grid() const override { return grid_; }
+  /// Records a promise about the values (format::kGridFlag*), written into the file's GRID section.
+  void addFlags(std::uint32_t flags) { grid_.flags |= flags; }
 
   /// Allocates the blocks at `keys` (duplicates allowed), every voxel far outside.
   void addBlocks(const std::vector<BlockKey>& keys);

@@ -20,6 +20,8 @@ namespace format {
 namespace {
 
 constexpr float kDegrees = 57.29577951308232f;
+// Relative float rounding between the encoder's and the reader's evaluation of the same plane.
+constexpr float kRoundingSlack = 4e-7f;
 
 struct Encoder {
   const FieldSource& source;
@@ -33,6 +35,8 @@ struct Encoder {
   EncodeStats stats;
   std::vector<float> distance; // the brick being encoded, x fastest
   std::vector<Vec3f> normal;
+  std::vector<std::uint32_t> quantized; // writeBrick's scratch: octahedral normal bits per voxel
+  std::vector<float> target;            // and the value each voxel's word may not exceed
 };
 
 // A brick's voxel range, clipped to the grid.
@@ -51,6 +55,13 @@ template <class Visit> void forEachVoxel(const BrickBox& box, Visit visit) {
 }
 
 float clampToBand(float d, float band) { return std::min(std::max(d, -band), band); }
+
+// How far a plane through a voxel centre with normal `stored` can rise above one with normal `input`
+// anywhere in the voxel's cell: max over the cube of (stored - input) . x is the L1 norm times h/2.
+float tiltAllowance(Vec3f stored, Vec3f input, float voxel_size) {
+  const Vec3f d = stored - input;
+  return (std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z)) * 0.5f * voxel_size;
+}
 
 bool inBand(const Encoder& e, std::size_t v) { return std::fabs(e.distance[v]) < e.grid.band; }
 
@@ -106,7 +117,17 @@ bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3],
     offset_sum += double(e.distance[v]) - double(dot(n, g.voxelCentre(i, j, k) - c));
     ++band_count;
   });
-  const float d_c = float(offset_sum / double(band_count));
+  float d_c = float(offset_sum / double(band_count));
+  // Conservative: the tile's plane may not rise above any voxel's own plane anywhere in that voxel's
+  // cell (docs/FORMAT.md, "conservative planes"), so lower it by the worst excess, plus rounding.
+  float excess = 0.0f;
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    if (!inBand(e, v)) return;
+    const float predicted = d_c + dot(n, g.voxelCentre(i, j, k) - c);
+    const float allowed = e.distance[v] - tiltAllowance(n, normalizeOrZero(e.normal[v]), g.voxel_size);
+    excess = std::max(excess, predicted - allowed);
+  });
+  d_c -= excess + kRoundingSlack * (std::fabs(d_c) + g.band);
 
   bool fits = true;
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
@@ -123,13 +144,42 @@ bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3],
   return true;
 }
 
-// Quantized brick: the range [lo, hi] is rounded outwards to 16 bits, then each voxel to 10 bits.
+// The value a voxel's word must not exceed: its distance lowered by the tilt its quantized normal
+// adds over the cell (far voxels keep +-band, which decodes exactly).
+float conservativeTarget(const Encoder& e, std::size_t v, Vec3f quantized_normal) {
+  const float band = e.grid.band;
+  if (!inBand(e, v)) return clampToBand(e.distance[v], band);
+  const float allowance = tiltAllowance(quantized_normal, normalizeOrZero(e.normal[v]), e.grid.voxel_size);
+  return clampToBand(e.distance[v] - allowance, band);
+}
+
+// The largest code whose decoded distance does not exceed `target`, for band voxels near or above
+// zero; the nearest code for the others (far voxels, and values safely below zero, which only have to
+// stay negative: a plane proves nothing where it reads below zero).
+std::uint32_t distanceCode(float target, bool in_band, float lo, float hi, float step) {
+  if (!in_band && target >= hi) return kWordDistanceMax;
+  const bool round_down = in_band && target >= -2.0f * step;
+  const float raw = step > 0.0f ? (target - lo) / step : 0.0f;
+  auto code = std::uint32_t(std::clamp(round_down ? std::floor(raw) : std::round(raw), 0.0f, float(kWordDistanceMax)));
+  while (round_down && code > 0 && wordDistance(packWord(0, 0, code), lo, hi, step) > target)
+    --code;
+  return code;
+}
+
+// Quantized brick: the range [lo, hi] is rounded outwards to 16 bits, then each voxel to 10 bits,
+// downwards for band voxels so the decoded plane never rises above the input plane in the cell.
 std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   const float band = e.grid.band;
+  std::vector<std::uint32_t>& normals = e.quantized;
+  std::vector<float>& targets = e.target;
   float lo = band, hi = -band;
   forEachVoxel(box, [&](std::uint32_t, std::uint32_t, std::uint32_t, std::size_t v) {
-    lo = std::min(lo, clampToBand(e.distance[v], band));
-    hi = std::max(hi, clampToBand(e.distance[v], band));
+    std::uint32_t qu = 0, qv = 0;
+    octEncode(e.normal[v], kWordOctBits, &qu, &qv);
+    normals[v] = packWord(qu, qv, 0);
+    targets[v] = conservativeTarget(e, v, wordNormal(normals[v]));
+    lo = std::min(lo, targets[v]);
+    hi = std::max(hi, targets[v]);
   });
   const float to_q16 = float(kRangeMax) / (2.0f * band);
   const auto lo16 = std::uint32_t(std::clamp(std::floor((lo + band) * to_q16), 0.0f, float(kRangeMax)));
@@ -143,12 +193,8 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   e.pool.resize(base + (std::size_t(1) << (3 * e.log2)), 0u);
   const std::uint32_t mask = e.size - 1;
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
-    const float d = clampToBand(e.distance[v], band);
-    const float code = d >= hi_value ? float(kWordDistanceMax) : step > 0.0f ? std::round((d - lo_value) / step) : 0.0f;
-    const auto qd = std::uint32_t(std::clamp(code, 0.0f, float(kWordDistanceMax)));
-    std::uint32_t qu = 0, qv = 0;
-    octEncode(e.normal[v], kWordOctBits, &qu, &qv);
-    const std::uint32_t word = packWord(qu, qv, qd);
+    const std::uint32_t qd = distanceCode(targets[v], inBand(e, v), lo_value, hi_value, step);
+    const std::uint32_t word = normals[v] | qd << (2 * kWordOctBits);
     const std::size_t local = ((k & mask) << (2 * e.log2)) | ((j & mask) << e.log2) | (i & mask);
     e.pool[base + local] = word;
     if (inBand(e, v)) measure(e, v, wordDistance(word, lo_value, hi_value, step), wordNormal(word));
@@ -211,7 +257,9 @@ Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std:
                  {},
                  {},
                  std::vector<float>(brick_voxels),
-                 std::vector<Vec3f>(brick_voxels)};
+                 std::vector<Vec3f>(brick_voxels),
+                 std::vector<std::uint32_t>(brick_voxels),
+                 std::vector<float>(brick_voxels)};
 }
 
 // What one z layer of bricks encoded to; pool indices in `top` count from the layer's first brick.

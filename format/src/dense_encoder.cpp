@@ -81,6 +81,7 @@ GridSection makeGridSection(const GridGeometry& g, Encoding encoding) {
     s.dims[a] = g.dims[a];
   s.band = g.band;
   s.encoding = std::uint32_t(encoding);
+  s.flags = g.flags;
   return s;
 }
 

@@ -1,13 +1,16 @@
-// stepParticles: responses per body (paper §3.3-3.6), then integration, optionally swept.
+// stepParticles: responses per body (paper §3.3-3.6), then a move that cannot cross a surface.
 //
-// Everything happens in the world frame: only the particle position goes into a body's frame for the
-// field lookup, and the distance (times the body's scale) and the normal (rotated) come back out. So
-// velocities are never transformed and a uniformly scaled body behaves like the same scene built at
-// that scale (tests/particles_test.cpp checks it).
+// The responses happen in the world frame: only the particle position goes into a body's frame for
+// the field lookup, and the distance (times the body's scale) and the normal (rotated) come back out.
+// The move is judged in each body's own frame, from the body's pose at the start of the step to its
+// pose at the end (pose.h), by the conservative walk (walk.h). A blocked particle stops where the walk
+// proved the way clear, bounces off the blocking plane with the body's restitution, and slides the
+// rest of its step along that plane when the straight path to there is clear too.
 #include "diagnostic.h"
 #include "dng/particles.h"
 #include "dng/responses.h"
-#include "sweep.h"
+#include "pose.h"
+#include "walk.h"
 
 #include <cmath>
 #include <cstring>
@@ -16,6 +19,16 @@
 namespace dng {
 
 namespace {
+
+// The walk keeps this much of a voxel between a particle and the surface, so rounding in the next
+// step's sample cannot put it behind the plane that stopped it.
+constexpr float kMarginVoxels = 0.02f;
+// Samples per body and step: enough for a design-speed step along a surface; swept bodies afford
+// any speed. A walk out of samples stops the particle early (docs/RUNTIME.md), it never crosses.
+constexpr int kWalkSamples = 24;
+constexpr int kSweptWalkSamples = 256;
+// Bodies whose first sample is kept from the response for the walk; more bodies sample twice.
+constexpr std::size_t kKeptSamples = 8;
 
 struct ParticleState {
   Vec3f position;
@@ -42,10 +55,59 @@ void store(const ParticleSpan& s, std::size_t n, const ParticleState& p) {
   *at(s.velocity_z, s.velocity_stride, n) = p.velocity.z;
 }
 
+// std::fmin/fmax are libm calls without -ffast-math; these compile to single instructions.
+inline float minOf(float a, float b) { return a < b ? a : b; }
+inline float maxOf(float a, float b) { return a > b ? a : b; }
+
 bool insideBounds(const Body& b, Vec3f p) {
   const Vec3f lo = b.boundsMin(), hi = b.boundsMax();
   return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
 }
+
+// Whether the world segment a -> b can touch the body's world box in either of its poses. The box of
+// the swept segment against the box grown by how far the body moves its farthest corner.
+bool segmentNearBounds(const Body& body, Vec3f a, Vec3f b, float body_travel) {
+  const Vec3f lo = body.boundsMin(), hi = body.boundsMax();
+  for (int axis = 0; axis < 3; ++axis) {
+    const float s_lo = minOf(component(a, axis), component(b, axis));
+    const float s_hi = maxOf(component(a, axis), component(b, axis));
+    if (s_hi < component(lo, axis) - body_travel || s_lo > component(hi, axis) + body_travel) return false;
+  }
+  return true;
+}
+
+// How far any point of the body's box moves in dt: |v| dt plus |w| dt times the box's reach from
+// the body's origin.
+float bodyTravel(const Body& body, float dt) {
+  const Vec3f lo = body.boundsMin() - body.translation(), hi = body.boundsMax() - body.translation();
+  const Vec3f far{maxOf(std::fabs(lo.x), std::fabs(hi.x)), maxOf(std::fabs(lo.y), std::fabs(hi.y)),
+                  maxOf(std::fabs(lo.z), std::fabs(hi.z))};
+  return (length(body.linearVelocity()) + length(body.angularVelocity()) * length(far)) * dt;
+}
+
+// What a step needs of each body beyond the body itself: its pose at the end of the step and how far
+// its box moves meanwhile. The first kStored are computed once per call, the rest (large scenes) when
+// a particle comes near them, so a step never allocates.
+struct BodyMotion {
+  Pose end;
+  float travel = 0.0f;
+};
+
+class BodyMotions {
+public:
+  BodyMotions(const Body* bodies, std::size_t count, float dt) : bodies_(bodies), dt_(dt) {
+    for (std::size_t b = 0; b < count && b < kStored; ++b)
+      stored_[b] = motionOf(bodies[b], dt);
+  }
+  BodyMotion operator[](std::size_t b) const { return b < kStored ? stored_[b] : motionOf(bodies_[b], dt_); }
+
+private:
+  static BodyMotion motionOf(const Body& body, float dt) { return {poseAfter(body, dt), bodyTravel(body, dt)}; }
+  static constexpr std::size_t kStored = 64;
+  const Body* bodies_;
+  float dt_;
+  BodyMotion stored_[kStored];
+};
 
 // Which body touched the particle, if any: the nearest of those that acted.
 struct Touch {
@@ -59,27 +121,34 @@ struct Touch {
   }
 };
 
-// The nearest body whose band the particle started the step in, for the contact guard.
-struct Guard {
-  std::int32_t body = -1;
-  float distance = std::numeric_limits<float>::infinity(); // world units, at the start of the step
+// The response samples, kept for the walk's first sample. Raw storage: a particle far from every body
+// keeps none, and should not pay for constructing them.
+class KeptSamples {
+public:
+  void keep(std::size_t body, const Sample& s) {
+    if (body >= kKeptSamples) return;
+    std::memcpy(storage_ + body * sizeof(Sample), &s, sizeof(Sample));
+    valid_ |= 1u << body;
+  }
+  bool find(std::size_t body, Sample* out) const {
+    if (body >= kKeptSamples || !(valid_ & (1u << body))) return false;
+    std::memcpy(out, storage_ + body * sizeof(Sample), sizeof(Sample));
+    return true;
+  }
+
+private:
+  alignas(Sample) unsigned char storage_[kKeptSamples * sizeof(Sample)];
+  std::uint32_t valid_ = 0;
 };
 
-// The body's surface as seen from world point `p`, when p lies within the body's band: distance
-// scaled to world units, normal rotated to world. False outside the bounds or the band.
-bool contactAt(const Body& body, Vec3f p, Contact* out) {
-  if (!insideBounds(body, p)) return false;
-  const Sample s = body.field()->sample(body.toLocal(p));
-  if (s.status != SampleStatus::kInBand) return false;
-  *out = {s.distance * body.scale(), body.rotateToWorld(s.normal)};
-  return true;
-}
-
 // Samples one body at the particle and applies its material to the velocity relative to its surface.
-void respondToBody(const Body& body, std::size_t index, float dt, ParticleState* io, Touch* io_touch, Guard* io_guard) {
-  Contact contact;
-  if (!contactAt(body, io->position, &contact)) return;
-  if (contact.distance < io_guard->distance) *io_guard = {std::int32_t(index), contact.distance};
+void respondToBody(const Body& body, std::size_t index, float dt, ParticleState* io, Touch* io_touch,
+                   KeptSamples* io_kept) {
+  if (!insideBounds(body, io->position)) return;
+  const Sample s = body.field()->sample(body.toLocal(io->position));
+  io_kept->keep(index, s);
+  if (s.status != SampleStatus::kInBand) return;
+  const Contact contact{s.distance * body.scale(), body.rotateToWorld(s.normal)};
   const Vec3f surface = body.surfaceVelocity(io->position);
   Vec3f relative = io->velocity - surface;
   if (respond(body.material(), contact, body.field()->grid().band * body.scale(), dt, &relative)) {
@@ -88,60 +157,75 @@ void respondToBody(const Body& body, std::size_t index, float dt, ParticleState*
   }
 }
 
-// Moves the particle by v dt, stopping it at the earliest swept body its segment reaches.
-void integrate(const Body* bodies, std::size_t body_count, bool any_swept, float dt, ParticleState* io,
-               Touch* io_touch) {
-  const Vec3f step = io->velocity * dt;
-  if (any_swept) {
-    float earliest = 2.0f;
-    std::size_t hit_body = 0;
-    Contact hit_contact;
-    for (std::size_t b = 0; b < body_count; ++b) {
-      if (!bodies[b].material().swept) continue;
-      const Vec3f relative_step = step - bodies[b].surfaceVelocity(io->position) * dt;
-      float t = 0.0f;
-      Contact contact;
-      if (sweepSegment(bodies[b], io->position, relative_step, &t, &contact) && t < earliest) {
-        earliest = t;
-        hit_body = b;
-        hit_contact = contact;
-      }
-    }
-    if (earliest <= 1.0f) {
-      // Stop at the hit point for the rest of the step and bounce off the body's surface there.
-      io->position = io->position + step * earliest;
-      const Body& body = bodies[hit_body];
-      const Vec3f surface = body.surfaceVelocity(io->position);
-      Vec3f relative = io->velocity - surface;
-      const float vn = dot(relative, hit_contact.normal);
-      if (vn < 0.0f) relative = relative - hit_contact.normal * ((1.0f + body.material().restitution) * vn);
-      io->velocity = relative + surface;
-      io_touch->record(hit_body, hit_contact.distance);
-      return;
-    }
+bool collides(const Body& body) { return body.material().response != Response::kNone; }
+
+// Where the earliest body stopped a straight move, in the world at the end of the step.
+struct Stop {
+  std::int32_t body = -1;
+  float t = 2.0f;
+  WalkResult walk;
+  Vec3f position; // world, on the blocking body as it stands at the end of the step
+};
+
+// Walks the world move start -> end through every colliding body near it, in each body's frame.
+Stop firstStop(const Body* bodies, std::size_t body_count, const BodyMotions& motions, Vec3f start, Vec3f end,
+               const KeptSamples* kept) {
+  Stop first;
+  for (std::size_t b = 0; b < body_count; ++b) {
+    const Body& body = bodies[b];
+    if (!collides(body)) continue;
+    const BodyMotion motion = motions[b];
+    if (!segmentNearBounds(body, start, end, motion.travel)) continue;
+    const Vec3f a = body.toLocal(start);
+    const Pose& end_pose = motion.end;
+    const Vec3f delta = end_pose.toLocal(end) - a;
+    const float margin = kMarginVoxels * body.field()->grid().voxel_size;
+    const int samples = body.material().swept ? kSweptWalkSamples : kWalkSamples;
+    Sample kept_sample;
+    const bool reuse = kept != nullptr && kept->find(b, &kept_sample);
+    const WalkResult walk = walkSegment(*body.field(), a, delta, reuse ? &kept_sample : nullptr, margin, samples);
+    if (walk.stop == WalkStop::kClear || walk.t >= first.t) continue;
+    first = {std::int32_t(b), walk.t, walk, end_pose.toWorld(a + delta * walk.t)};
   }
-  io->position = io->position + step;
+  return first;
 }
 
-// Contact guard. Near sharp edges a voxel can carry the other face's normal, so a bounce may miss
-// (the DN field cannot resolve which side of an edge a point is on within one voxel). For convex
-// regions the plane-refined distance never overestimates, so "the field says outside" means outside:
-// a step that takes a particle from field distance >= 0 to < 0, both within the band, crossed the
-// surface. Refuse it: the particle stays where it was and its velocity relative to the surface
-// reverses with the body's restitution. Deep jumps (far inside) are tunnelling: swept mode's job.
-void guardContact(const Body* bodies, const Guard& guard, Vec3f start, ParticleState* io, Touch* io_touch) {
-  if (guard.body < 0 || guard.distance < 0.0f) return;
-  const Body& body = bodies[guard.body];
-  if (body.material().response != Response::kImpact) return; // springs may dive (§3.3); kNone passes through
-  // No shortcut by "moved less than its distance": the true distance is 1-Lipschitz, but the
-  // sampled one is not across an edge voxel (seen: +1.06 to -0.66 over a 1.05 move), and it is the
-  // sampled distance that the next step's bounce will trust.
-  Contact after;
-  if (!contactAt(body, io->position, &after) || after.distance >= 0.0f) return;
-  const Vec3f surface = body.surfaceVelocity(start);
-  io->position = start;
-  io->velocity = surface - (io->velocity - surface) * body.material().restitution;
-  io_touch->record(std::size_t(guard.body), guard.distance);
+// Bounces the velocity off the stop: the normal part reflects with the body's restitution (kPlane),
+// or the whole relative velocity turns back (kReverse); a stall keeps it.
+Vec3f bounce(const Body& body, const Pose& end_pose, const Stop& stop, Vec3f velocity) {
+  if (stop.walk.stop == WalkStop::kStall) return velocity;
+  const Vec3f surface = body.surfaceVelocity(stop.position);
+  Vec3f relative = velocity - surface;
+  const float restitution = body.material().restitution;
+  if (stop.walk.stop == WalkStop::kReverse) return surface - relative * restitution;
+  const Vec3f n = end_pose.rotateToWorld(stop.walk.normal);
+  const float vn = dot(relative, n);
+  if (vn < 0.0f) relative = relative - n * ((1.0f + restitution) * vn);
+  return relative + surface;
+}
+
+// Moves the particle by v dt without crossing any colliding body.
+void move(const Body* bodies, std::size_t body_count, const BodyMotions& motions, float dt, const KeptSamples& kept,
+          ParticleState* io, Touch* io_touch) {
+  const Vec3f start = io->position;
+  const Vec3f end = start + io->velocity * dt;
+  const Stop stop = firstStop(bodies, body_count, motions, start, end, &kept);
+  if (stop.body < 0) {
+    io->position = end;
+    return;
+  }
+  const Body& body = bodies[stop.body];
+  const Pose pose = motions[std::size_t(stop.body)].end;
+  io->position = stop.position;
+  io->velocity = bounce(body, pose, stop, io->velocity);
+  io_touch->record(std::size_t(stop.body), 0.0f);
+  if (stop.walk.stop != WalkStop::kPlane) return;
+  // Slide: the rest of the move without its part into the plane, kept only when the straight path
+  // from the start is clear too (a particle's step is the segment between its two positions).
+  const Vec3f n = pose.rotateToWorld(stop.walk.normal);
+  const Vec3f rest = (end - start) * (1.0f - stop.t);
+  const Vec3f slid = stop.position + rest - n * minOf(dot(rest, n), 0.0f);
+  if (firstStop(bodies, body_count, motions, start, slid, nullptr).body < 0) io->position = slid;
 }
 
 Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_t body_count, Diagnostic* diag) {
@@ -166,19 +250,24 @@ Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies
                      Diagnostic* out_diag) {
   const Status status = checkStep(particles, dt, bodies, body_count, out_diag);
   if (status != Status::kOk) return status;
-  bool any_swept = false;
-  for (std::size_t b = 0; b < body_count; ++b)
-    any_swept = any_swept || bodies[b].material().swept;
-
+  if (body_count == 0) { // nothing to collide with: integrate
+    for (std::size_t n = 0; n < particles.count; ++n) {
+      ParticleState state = load(particles, n);
+      state.position = state.position + state.velocity * dt;
+      store(particles, n, state);
+      if (particles.out_contact != nullptr) particles.out_contact[n] = 0;
+      if (particles.out_body != nullptr) particles.out_body[n] = -1;
+    }
+    return Status::kOk;
+  }
+  const BodyMotions motions(bodies, body_count, dt);
   for (std::size_t n = 0; n < particles.count; ++n) {
     ParticleState state = load(particles, n);
-    const Vec3f start = state.position;
     Touch touch;
-    Guard guard;
+    KeptSamples kept;
     for (std::size_t b = 0; b < body_count; ++b)
-      respondToBody(bodies[b], b, dt, &state, &touch, &guard);
-    integrate(bodies, body_count, any_swept, dt, &state, &touch);
-    guardContact(bodies, guard, start, &state, &touch);
+      respondToBody(bodies[b], b, dt, &state, &touch, &kept);
+    move(bodies, body_count, motions, dt, kept, &state, &touch);
     store(particles, n, state);
     if (particles.out_contact != nullptr) particles.out_contact[n] = touch.body >= 0 ? 1 : 0;
     if (particles.out_body != nullptr) particles.out_body[n] = touch.body;

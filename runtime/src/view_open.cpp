@@ -209,6 +209,7 @@ Status ViewBuilder::checkGrid() {
     grid_.dims[a] = g.dims[a];
   grid_.band = g.band;
   grid_.encoding = fmt::Encoding(g.encoding);
+  grid_.flags = g.flags; // 1.0 writers wrote 0 here; unknown bits are for later minor versions
   if (grid_.encoding == fmt::Encoding::kBricked) {
     if (g.brick_log2 < 2 || g.brick_log2 > 4)
       return fail(Status::kUnsupportedEncoding, "V13: brick edge 2^%u, must be 4, 8 or 16", g.brick_log2);

@@ -47,6 +47,23 @@ Mesh boxMesh(Vec3f c, Vec3f h) {
   return m;
 }
 
+Mesh lBlockMesh(Vec3f origin, float size, float depth) {
+  // The outline counter-clockwise from above; the reflex corner (1, 1) fans the caps.
+  const float outline[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  Mesh m;
+  for (int level = 0; level < 2; ++level)
+    for (const auto& xy : outline)
+      m.vertices.push_back(origin + Vec3f{xy[0] * size, xy[1] * size, float(level) * depth * size});
+  for (std::uint32_t e = 0; e < 6; ++e) // sides, outwards
+    quad(m, e, (e + 1) % 6, 6 + (e + 1) % 6, 6 + e);
+  const std::uint32_t fan[4][2] = {{4, 5}, {5, 0}, {0, 1}, {1, 2}};
+  for (const auto& f : fan) {
+    m.triangles.push_back({3, f[1], f[0]});         // bottom, facing -z
+    m.triangles.push_back({9, 6 + f[0], 6 + f[1]}); // top, facing +z
+  }
+  return m;
+}
+
 Mesh sphereMesh(Vec3f c, float r, int slices, int stacks) {
   Mesh m;
   m.vertices.push_back(c + Vec3f{0, 0, r});

@@ -22,6 +22,9 @@ Mesh boxMesh(Vec3f centre, Vec3f half);
 Mesh sphereMesh(Vec3f centre, float radius, int slices, int stacks);
 Mesh cylinderMesh(Vec3f centre, float radius, float half_height, int segments);
 Mesh torusMesh(Vec3f centre, float major, float minor, int major_segments, int minor_segments);
+/// An L-shaped block: the square [0, 2]^2 without its [1, 2]^2 quarter, extruded over z in [0, depth],
+/// then scaled by `size` and moved by `origin`. Its inner edge is a 90-degree concave crease.
+Mesh lBlockMesh(Vec3f origin, float size, float depth);
 /// A square sheet of zero thickness in the plane z = centre.z.
 Mesh sheetMesh(Vec3f centre, float half);
 /// The same triangles with every vertex duplicated per triangle: no shared connectivity at all.

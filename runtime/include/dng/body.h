@@ -64,8 +64,10 @@ public:
   /// Same, from parts: translation, unit quaternion (w, x, y, z; normalized here), uniform scale > 0.
   Status setTransform(Vec3f translation, const float quaternion_wxyz[4], float scale, Diagnostic* out_diag = nullptr);
 
-  /// World-frame linear velocity of the body origin and angular velocity (rad/s) about it. Used for
-  /// the relative velocity of the surface a particle touches.
+  /// World-frame linear velocity of the body origin and angular velocity (rad/s) about it. The
+  /// transform is the body's pose at the start of a step; stepParticles moves the body on at these
+  /// velocities for dt and judges each particle's motion against both poses (docs/RUNTIME.md), so
+  /// set them to how the body really moves over the coming step.
   void setVelocity(Vec3f linear, Vec3f angular) {
     linear_velocity_ = linear;
     angular_velocity_ = angular;
@@ -77,6 +79,8 @@ public:
   const View* field() const { return field_; }
   const Material& material() const { return material_; }
   float scale() const { return scale_; }
+  /// The rotation part of the transform, row-major 3x3 (orthonormal).
+  const float* rotation() const { return rotation_; }
   Vec3f translation() const { return translation_; }
   Vec3f linearVelocity() const { return linear_velocity_; }
   Vec3f angularVelocity() const { return angular_velocity_; }

@@ -47,6 +47,7 @@ struct GridInfo {
   std::uint32_t brick_dims[3] = {};
   float tolerance_distance = 0.0f;   ///< bricked: voxels
   float tolerance_normal_deg = 0.0f; ///< bricked: degrees
+  std::uint32_t flags = 0;           ///< format::kGridFlag* bits (1.1 files; 0 in 1.0 files)
 };
 
 /// Tile counts of a bricked file (all zero for dense), counted once at open.
@@ -86,6 +87,9 @@ public:
   float guaranteedReach() const { return grid_.band - 0.8660254f * grid_.voxel_size; }
 
   const GridInfo& grid() const { return grid_; }
+  /// True when the file promises that every plane bounds the true distance from below over its cell
+  /// (format::kGridFlagConservativePlanes): what makes stepParticles' walk leak-free.
+  bool conservativePlanes() const { return (grid_.flags & format::kGridFlagConservativePlanes) != 0; }
   const TileCounts& tileCounts() const { return tiles_; }
   std::uint16_t versionMajor() const { return version_major_; }
   std::uint16_t versionMinor() const { return version_minor_; }

@@ -18,6 +18,9 @@ struct GridGeometry {
   float voxel_size = 1.0f;           ///< cubic voxel edge, > 0
   std::uint32_t dims[3] = {0, 0, 0}; ///< voxels per axis, each >= 1
   float band = 1.0f;                 ///< |distance| >= band is "far", > 0, in local units
+  /// GridSection::flags for the file (format::kGridFlag*): what the producer promises about its
+  /// values, e.g. conservative planes. Writers copy it; they do not check it.
+  std::uint32_t flags = 0;
 
   std::size_t voxelCount() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
   std::size_t index(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {

@@ -22,7 +22,7 @@ inline constexpr unsigned char kMagic[8] = {0x89, 'D', 'N', 'G', '\r', '\n', 0x1
 /// A major bump breaks compatibility; a minor bump only adds (new optional sections, new fields in
 /// reserved bytes that older readers may ignore).
 inline constexpr std::uint16_t kVersionMajor = 1;
-inline constexpr std::uint16_t kVersionMinor = 0;
+inline constexpr std::uint16_t kVersionMinor = 1; ///< 1.1: GridSection::flags
 
 inline constexpr std::uint32_t kHeaderSize = 128;
 inline constexpr std::uint32_t kSectionAlignment = 64;
@@ -86,8 +86,13 @@ struct GridSection {
   std::uint32_t brick_dims[3]; // 40  bricked: ceil(dims / brick edge); dense: 0
   float tolerance_distance;    // 52  bricked: plane/far tile tolerance, in voxels
   float tolerance_normal_deg;  // 56  bricked: plane tile normal tolerance, in degrees
-  std::uint32_t reserved;      // 60  written 0
+  std::uint32_t flags;         // 60  kGridFlag* bits (1.1; written 0 by 1.0 writers), others reserved
 };
+
+/// GridSection::flags bit 0 (since 1.1): every in-band voxel's plane, d + n . (p - c), is at most the
+/// true signed distance everywhere in the voxel's cell, as dngbake makes them (docs/FORMAT.md §5).
+/// Readers that do not know a bit ignore it.
+inline constexpr std::uint32_t kGridFlagConservativePlanes = 1u;
 
 /// One voxel of the dense encoding: 16 bytes.
 struct DenseVoxel {
@@ -130,7 +135,7 @@ static_assert(offsetof(GridSection, brick_log2) == 36);
 static_assert(offsetof(GridSection, brick_dims) == 40);
 static_assert(offsetof(GridSection, tolerance_distance) == 52);
 static_assert(offsetof(GridSection, tolerance_normal_deg) == 56);
-static_assert(offsetof(GridSection, reserved) == 60);
+static_assert(offsetof(GridSection, flags) == 60);
 
 static_assert(sizeof(DenseVoxel) == 16, "DenseVoxel is 16 bytes on disk");
 static_assert(offsetof(DenseVoxel, normal) == 4);

@@ -1,0 +1,169 @@
+// Conservative planes: every band voxel's plane lowered until it is a lower bound of the true signed
+// distance over the voxel's whole cell, so that the runtime can prove a path clear (docs/DESIGN.md,
+// "Leak-free steps"; docs/FORMAT.md, "conservative planes").
+//
+// A voxel (distance d, normal n, centre c) answers d + n . (p - c) anywhere in its cell (paper §3.1's
+// plane refinement). That overestimates the distance wherever the true distance D bends below the
+// plane: outside a concave crease the plane extends one face past the other, near a medial axis it
+// extends the nearer side, and a blurred normal tilts it. The error f = plane - D is bounded per cell:
+//   - where D is a minimum of planes (creases, medial axes) f is convex, so on the cell it is at most
+//     the trilinear blend of f at the 27 voxel centres around it (exact distances from the band);
+//   - where D bends upwards (convex edges, curved faces) f is concave and at most its tangent at c:
+//     (n - grad D) . (p - c) <= |n - grad D|_1 h / 2, which is zero for exact normals; grad D comes
+//     from the one-sided differences to the six face neighbours, the worse side per axis.
+// The plane is lowered by the larger bound plus a small allowance, never raised.
+#include "baker.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+
+namespace dng {
+namespace baker {
+
+namespace {
+
+// For rounding between the 27 samples the bounds above leave out (mixed cases); in voxels.
+constexpr float kAllowanceVoxels = 0.02f;
+
+constexpr int kHalo = VoxelBlock::kDim + 2; // a block and one voxel around it
+
+// The block's voxels and their neighbours, read once: distances clamped to +-band, normals.
+struct Neighbourhood {
+  float distance[kHalo * kHalo * kHalo];
+  Vec3f normal[kHalo * kHalo * kHalo];
+  static int at(int x, int y, int z) { return ((z + 1) * kHalo + (y + 1)) * kHalo + (x + 1); }
+};
+
+// Reads the halo box; voxels past the grid's edge lie beyond the padding, so they are far outside.
+void readNeighbourhood(const BandGrid& band, const VoxelBlock& block, Neighbourhood* out) {
+  const format::GridGeometry& g = band.grid();
+  std::fill(std::begin(out->distance), std::end(out->distance), g.band);
+  std::fill(std::begin(out->normal), std::end(out->normal), Vec3f{});
+  format::VoxelBox box;
+  int lo[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(block.origin[a] - 1, 0);
+    box.lo[a] = std::uint32_t(lo[a]);
+    box.hi[a] = std::uint32_t(std::min<std::int64_t>(block.origin[a] + VoxelBlock::kDim + 1, g.dims[a]));
+  }
+  std::vector<float> d(box.count());
+  std::vector<Vec3f> n(box.count());
+  band.read(box, d.data(), n.data());
+  std::size_t v = 0;
+  for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
+    for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
+      for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i, ++v) {
+        const int h = Neighbourhood::at(int(i) - block.origin[0], int(j) - block.origin[1], int(k) - block.origin[2]);
+        out->distance[h] = std::clamp(d[v], -g.band, g.band);
+        out->normal[h] = n[v];
+      }
+}
+
+// The bound on plane - D over the cell of voxel (x, y, z) of the block (see the top of the file).
+float planeExcess(const Neighbourhood& hood, int x, int y, int z, float band, float h, bool exact_normals) {
+  const int centre = Neighbourhood::at(x, y, z);
+  const float d = hood.distance[centre];
+  const Vec3f n = hood.normal[centre];
+  // f at the 27 centres; far inside neighbours bound nothing (D could be anything below -band).
+  float f[27];
+  bool known[27];
+  bool far[27];
+  for (int o = 0; o < 27; ++o) {
+    const int ox = o % 3 - 1, oy = (o / 3) % 3 - 1, oz = o / 9 - 1;
+    const float dn = hood.distance[Neighbourhood::at(x + ox, y + oy, z + oz)];
+    const float plane = d + h * (n.x * float(ox) + n.y * float(oy) + n.z * float(oz));
+    known[o] = dn > -band;
+    far[o] = !(std::fabs(dn) < band);
+    // Beyond the band the distance is only known to be >= band; the runtime never takes more than
+    // the guaranteed reach (< band) from a point near there, so the plane may read up to band.
+    f[o] = dn >= band ? std::min(plane - band, 0.0f) : plane - dn;
+  }
+  float excess = 0.0f;
+  // The cell's 27 points c + (h/2) s, s in {-1, 0, 1}^3: blend of the centres c + h t, t_a in {0, s_a}.
+  for (int o = 0; o < 27; ++o) {
+    const int s[3] = {o % 3 - 1, (o / 3) % 3 - 1, o / 9 - 1};
+    float sum = 0.0f;
+    int count = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      int t[3];
+      bool used = true;
+      for (int a = 0; a < 3; ++a) {
+        t[a] = (corner >> a) & 1 ? s[a] : 0;
+        used = used && ((corner >> a) & 1 ? s[a] != 0 : true);
+      }
+      if (!used) continue;
+      const int lattice = (t[0] + 1) + 3 * (t[1] + 1) + 9 * (t[2] + 1);
+      if (!known[lattice]) continue;
+      sum += f[lattice];
+      ++count;
+    }
+    if (count > 0) excess = std::max(excess, sum / float(count));
+  }
+  if (!exact_normals) {
+    // Tangent bound. Along each axis the gradient of D at c is the one-sided difference on the side
+    // whose piece is active at c (D is piecewise smooth), so n - grad D is at most the larger of
+    // |f(+a)| / h and |f(-a)| / h there; neighbours beyond the band say nothing.
+    const int step[3] = {1, 3, 9};
+    float sum = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      float worst = 0.0f;
+      for (int side : {13 - step[a], 13 + step[a]})
+        if (!far[side]) worst = std::max(worst, std::fabs(f[side]));
+      sum += worst;
+    }
+    excess = std::max(excess, 0.5f * sum);
+  }
+  return excess;
+}
+
+} // namespace
+
+BakeStatus makePlanesConservative(bool exact_normals, ProgressFn progress, void* progress_user, BandGrid* io) {
+  const format::GridGeometry& g = io->grid();
+  const std::vector<VoxelBlock> blocks = io->blocks();
+  std::vector<float> lowered(blocks.size() * VoxelBlock::kVoxels, 0.0f);
+  std::atomic<std::size_t> blocks_done{0};
+  std::atomic<bool> cancelled{false};
+  std::mutex reporting; // one callback at a time, from whichever worker gets it
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      Neighbourhood hood;
+                      for (std::size_t b = r.begin(); b != r.end() && !cancelled.load(); ++b) {
+                        readNeighbourhood(*io, blocks[b], &hood);
+                        for (int x = 0; x < VoxelBlock::kDim; ++x)
+                          for (int y = 0; y < VoxelBlock::kDim; ++y)
+                            for (int z = 0; z < VoxelBlock::kDim; ++z) {
+                              if (!(std::fabs(hood.distance[Neighbourhood::at(x, y, z)]) < g.band)) continue;
+                              const float excess = planeExcess(hood, x, y, z, g.band, g.voxel_size, exact_normals);
+                              lowered[b * VoxelBlock::kVoxels + VoxelBlock::offset(x, y, z)] =
+                                  excess + kAllowanceVoxels * g.voxel_size;
+                            }
+                        const double fraction = double(++blocks_done) / double(blocks.size());
+                        if (progress != nullptr && reporting.try_lock()) {
+                          if (!progress(progress_user, "conservative", fraction)) cancelled = true;
+                          reporting.unlock();
+                        }
+                      }
+                    });
+  if (cancelled) return BakeStatus::cancelled();
+  // Applied after every block has read its neighbours' original distances.
+  // Inside, a lowered value only has to stay negative (a plane proves nothing where it reads below
+  // zero), so it stops short of -band: the voxel stays in the band, as the .vdb export has it.
+  const float floor_value = -0.98f * g.band; // clear of the encoders' rounding towards -band
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    for (int v = 0; v < VoxelBlock::kVoxels; ++v) {
+      float& d = blocks[b].distance[v];
+      const float lowering = lowered[b * VoxelBlock::kVoxels + v];
+      if (lowering > 0.0f) d = std::max(d - lowering, std::min(d, floor_value));
+    }
+  io->addFlags(format::kGridFlagConservativePlanes);
+  return BakeStatus::success();
+}
+
+} // namespace baker
+} // namespace dng

@@ -1,0 +1,188 @@
+// The conservative walk (walk.h). Beyond the paper: its particles are tested at the end of each step
+// only, so a fast or grazing particle can pass through an edge or a thin part between two tests.
+#include "walk.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dng {
+
+namespace {
+
+// Clips the segment a + t d, t in [0, 1], to the grid's box; false when it misses. The box holds the
+// whole band with padding, so the parts of a segment outside it are clear.
+bool clipToGrid(const GridInfo& g, Vec3f a, Vec3f d, float* io_t0, float* io_t1) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo = component(g.origin, axis);
+    const float hi = lo + float(g.dims[axis]) * g.voxel_size;
+    const float start = component(a, axis), dir = component(d, axis);
+    if (dir == 0.0f) {
+      if (!(start >= lo && start < hi)) return false;
+      continue;
+    }
+    float ta = (lo - start) / dir, tb = (hi - start) / dir;
+    if (ta > tb) std::swap(ta, tb);
+    *io_t0 = std::max(*io_t0, ta);
+    *io_t1 = std::min(*io_t1, tb);
+  }
+  return *io_t0 <= *io_t1;
+}
+
+// Where the segment a + t d leaves the voxel that contains a + t d, computed in voxel units the way
+// View finds the voxel, so the two agree about which cell a point is in.
+float cellExit(const GridInfo& g, float inv_h, Vec3f a, Vec3f d, float t) {
+  float exit = 2.0f;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float du = component(d, axis) * inv_h;
+    if (du == 0.0f) continue;
+    const float u = (component(a, axis) + component(d, axis) * t - component(g.origin, axis)) * inv_h;
+    const float wall = du > 0.0f ? std::floor(u) + 1.0f : std::floor(u);
+    exit = std::min(exit, t + (wall - u) / du);
+  }
+  return exit;
+}
+
+WalkResult stopAt(WalkStop stop, float t, Vec3f normal) { return {stop, t, normal}; }
+
+// A lower bound of the distance at p from the 26 cells around p's own. A cell's plane bounds the
+// distance only inside that cell, but the distance is 1-Lipschitz, so the plane's value at the cell
+// point nearest p, less the distance to it, bounds it at p too. This is what proves a point outside
+// when its own cell's plane cannot: near a convex edge the plane of the face the voxel centre is
+// closest to reads far below zero just outside the other face.
+float neighbourBound(const View& field, float reach, Vec3f p) {
+  const GridInfo& g = field.grid();
+  const float h = g.voxel_size, inv_h = 1.0f / h;
+  constexpr float kInto = 1e-3f; // voxel units past a wall, so the sample lands in the other cell
+  float u[3], cell[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    u[axis] = (component(p, axis) - component(g.origin, axis)) * inv_h;
+    cell[axis] = std::floor(u[axis]);
+  }
+  float best = -reach;
+  for (int n = 0; n < 27; ++n) {
+    const int offset[3] = {n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1};
+    if (n == 13) continue; // p's own cell
+    Vec3f q = p;
+    float gap2 = 0.0f;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (offset[axis] == 0) continue;
+      // The nearest point of the neighbour: just past the wall between it and p's cell.
+      const float wall = offset[axis] < 0 ? cell[axis] - kInto : cell[axis] + 1.0f + kInto;
+      component(q, axis) = component(g.origin, axis) + wall * h;
+      gap2 += (u[axis] - wall) * (u[axis] - wall);
+    }
+    const Sample s = field.sample(q);
+    if (s.status == SampleStatus::kFarInside) continue;
+    const float value = s.status == SampleStatus::kNoField ? reach : std::min(s.distance, reach);
+    best = std::max(best, value - std::sqrt(gap2) * h);
+  }
+  return best;
+}
+
+// The best lower bound of the distance at p the field gives: its own plane, or its neighbours'.
+float fieldBound(const View& field, float reach, Vec3f p) {
+  const Sample s = field.sample(p);
+  if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return reach;
+  if (s.status == SampleStatus::kInBand && s.distance >= 0.0f) return std::min(s.distance, reach);
+  return neighbourBound(field, reach, p);
+}
+
+// Whether the field itself proves p outside: its own plane reads >= 0 there, or a neighbour's bound
+// does. A walk only ever leaves a particle at such a point, so the next step can prove it again.
+bool provable(const View& field, float reach, Vec3f p, const Sample& s) {
+  if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return true;
+  if (s.status == SampleStatus::kInBand && s.distance >= 0.0f) return true;
+  return neighbourBound(field, reach, p) >= 0.0f;
+}
+
+} // namespace
+
+WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first, float margin, int max_samples) {
+  const GridInfo& g = field.grid();
+  const float len = length(d);
+  // A far voxel's centre is beyond the band, so every point of its cell is at least this far.
+  const float reach = field.guaranteedReach();
+  // A ball that leaves this much room around the end point needs no look at the end point itself.
+  const float roomy = 3.0f * g.voxel_size;
+  // The common case first: far from the surface, the first sample's ball covers the whole step.
+  if (first != nullptr && (first->status == SampleStatus::kFarOutside || first->status == SampleStatus::kInBand) &&
+      std::min(first->distance, reach) - margin - len >= roomy)
+    return {};
+  float t = 0.0f, t_end = 1.0f;
+  if (!(len > 0.0f) || !clipToGrid(g, a, d, &t, &t_end)) return {};
+  const float inv_h = 1.0f / g.voxel_size;
+  // Steps past a cell wall land in the next cell: a fraction of a voxel, far below any margin.
+  const float nudge = 2e-3f * g.voxel_size / len;
+  const Vec3f back = d * (-1.0f / len);
+  // The last points the field proves outside by itself, where a blocked walk stops; -1: none yet.
+  // Own: by the point's own cell, so the next step can always recede along that cell's normal.
+  // Any: by a neighbour's bound as well, the fallback.
+  float proof_own = t > 0.0f ? t : -1.0f; // entering from outside the grid is entering from beyond the band
+  float proof = proof_own;
+  for (int n = 0; n < max_samples; ++n) {
+    if (t >= t_end) return {};
+    const Vec3f p = a + d * t;
+    const Sample s = n == 0 && t == 0.0f && first != nullptr ? *first : field.sample(p);
+    if (s.status == SampleStatus::kNoField) { // rounding at a face of the grid
+      t += nudge;
+      continue;
+    }
+    const float q = s.status == SampleStatus::kFarInside ? -reach : std::min(s.distance, reach);
+    if (q >= 0.0f) proof = proof_own = t;
+    float clear = q - margin;
+    if (clear >= (t_end - t) * len) { // one ball covers the rest: the end must be provable too
+      if (clear - (t_end - t) * len >= roomy) return {};
+      const Vec3f end = a + d * t_end;
+      if (provable(field, reach, end, field.sample(end))) return {};
+      // Clear, but the next step could not prove the end outside again (beside an edge the planes
+      // cannot resolve): turn back from the last point it can.
+      return stopAt(WalkStop::kReverse, std::max(proof_own >= 0.0f ? proof_own : proof, 0.0f), back);
+    }
+    if (s.status == SampleStatus::kFarOutside) {
+      t += clear / len;
+      continue;
+    }
+    const float rate = s.status == SampleStatus::kInBand ? dot(s.normal, d) : 0.0f; // the plane's change along d
+    const float exit = cellExit(g, inv_h, a, d, t);
+    if (rate < 0.0f && clear >= 0.0f) { // approaching: clear until the plane reaches the margin
+      const float hit = t + clear / -rate;
+      if (hit < exit && hit < t_end) return stopAt(WalkStop::kPlane, hit, s.normal);
+    }
+    if (clear >= 0.0f || (rate >= 0.0f && q >= 0.0f && s.status == SampleStatus::kInBand)) {
+      // Clear to the cell's wall: the plane stays above the margin, or rises from a value >= 0, so the
+      // plane proves every point up to the wall; the ball may reach further.
+      proof = proof_own = std::min(exit - nudge, t_end);
+      if (exit >= t_end) return {};
+      t = std::max(exit + nudge, t + clear / len);
+      continue;
+    }
+    // This cell's plane cannot clear the way: ask the cells around the point.
+    const float bound = neighbourBound(field, reach, p);
+    if (bound >= 0.0f) proof = t;
+    clear = bound - margin;
+    if (clear > 0.0f) {
+      t += clear / len;
+      continue;
+    }
+    if (bound >= 0.0f) {
+      // Proven outside but cramped, as beside an edge: two balls, here and at the end, may still
+      // cover the rest (a particle leaving the surface).
+      const Vec3f end = a + d * t_end;
+      if (bound + fieldBound(field, reach, end) - 2.0f * margin >= (t_end - t) * len) return {};
+    }
+    if (proof < 0.0f) {
+      // Never proven outside. A far inside voxel's centre is deep inside for sure: nothing to protect.
+      // Anywhere else the point may be just outside an edge the planes cannot resolve, so it stays.
+      if (s.status == SampleStatus::kFarInside) return {};
+      proof = t;
+    }
+    // A plane that reads >= 0 here and falls along the motion is what blocks: bounce off it. Below
+    // zero the plane may be a loose one (the face beside an edge), and its normal no guide: go back.
+    const float stop = proof_own >= 0.0f ? proof_own : proof;
+    return rate < 0.0f && q >= 0.0f ? stopAt(WalkStop::kPlane, stop, s.normal) : stopAt(WalkStop::kReverse, stop, back);
+  }
+  return t >= t_end ? WalkResult{}
+                    : stopAt(WalkStop::kStall, std::max(proof_own >= 0.0f ? proof_own : proof, 0.0f), back);
+}
+
+} // namespace dng

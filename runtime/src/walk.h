@@ -1,0 +1,38 @@
+// Internal: moving a point along a segment through a body's field without crossing its surface.
+//
+// The baker writes every voxel's plane as a lower bound of the true signed distance over the voxel's
+// whole cell (docs/FORMAT.md, "conservative planes"). The walk relies on nothing else:
+//   - a ball: a point whose field value q is positive has no surface within q of it, in any direction,
+//     so the segment may advance by q (sphere tracing, as in a swept step);
+//   - a plane: inside one cell the field is the linear function q + n . (x - p), so the segment is
+//     clear up to where that plane reaches the margin, or to the cell's exit when it does not.
+// Each sample advances by the larger of the two. Near a surface that is a few samples per cell the
+// segment crosses; away from it one ball covers the whole step.
+#pragma once
+
+#include "dng/view.h"
+
+namespace dng {
+
+/// How a walk ended.
+enum class WalkStop : std::uint32_t {
+  kClear = 0,   ///< the whole segment is clear
+  kPlane = 1,   ///< a voxel plane closer than the margin, approached along its normal: reflect and slide
+  kReverse = 2, ///< the field cannot prove the way ahead clear and its normal does not face the motion: go back
+  kStall = 3,   ///< out of samples: stop where the walk got to, keep the velocity
+};
+
+struct WalkResult {
+  WalkStop stop = WalkStop::kClear;
+  float t = 1.0f; ///< fraction of the segment proven clear; the point stops there unless kClear
+  Vec3f normal;   ///< local frame, unit: the blocking plane's normal (kPlane) or minus the motion (kReverse)
+};
+
+/// Walks the local segment a -> a + delta through `field`, keeping at least `margin` (local units)
+/// between the path and the surface as far as the field can prove it. `first`, when not null, is the
+/// field's sample at `a` (the step already took it for the particle's response). A start point the
+/// field cannot prove outside may move only along its voxel's normal (a particle a moving body has
+/// run into, or one spawned too close, works its way out). At most `max_samples` samples.
+WalkResult walkSegment(const View& field, Vec3f a, Vec3f delta, const Sample* first, float margin, int max_samples);
+
+} // namespace dng
