@@ -158,6 +158,7 @@ dng_status dng_field_get_info(const dng_field* field, dng_field_info* out_info) 
   info.brick_size = g.brick_size;
   info.format_version[0] = view.versionMajor();
   info.format_version[1] = view.versionMinor();
+  info.conservative_planes = view.conservativePlanes() ? 1u : 0u;
   info.file_bytes = view.sizeBytes();
   *out_info = info;
   return DNG_OK;

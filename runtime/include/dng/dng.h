@@ -121,16 +121,18 @@ DNG_API dng_status dng_field_sample_batch(const dng_field* field, const float* p
 
 /** What a field holds. Lengths are in the grid's local units (the units the mesh was baked in). */
 typedef struct dng_field_info {
-  float bounds_min[3];        /* the grid's minimum corner (its origin) */
-  float bounds_max[3];        /* bounds_min + dims * voxel_size */
-  float voxel_size;           /* voxel edge */
-  uint32_t dims[3];           /* voxels per axis */
-  float band;                 /* distances are stored for |d| < band */
-  float guaranteed_reach;     /* band - sqrt(3)/2 voxel_size: nearer points always answer in band */
-  uint32_t encoding;          /* DNG_ENCODING_* */
-  uint32_t brick_size;        /* bricked: brick edge in voxels; 0 for dense */
-  uint32_t format_version[2]; /* the file's .dng version: major, minor */
-  uint64_t file_bytes;        /* size of the file or memory block */
+  float bounds_min[3];          /* the grid's minimum corner (its origin) */
+  float bounds_max[3];          /* bounds_min + dims * voxel_size */
+  float voxel_size;             /* voxel edge */
+  uint32_t dims[3];             /* voxels per axis */
+  float band;                   /* distances are stored for |d| < band */
+  float guaranteed_reach;       /* band - sqrt(3)/2 voxel_size: nearer points always answer in band */
+  uint32_t encoding;            /* DNG_ENCODING_* */
+  uint32_t brick_size;          /* bricked: brick edge in voxels; 0 for dense */
+  uint32_t format_version[2];   /* the file's .dng version: major, minor */
+  uint32_t conservative_planes; /* 1 when no voxel plane overestimates the distance (format 1.1 bakes):
+                                   what dng_scene_step's walk needs to stop every particle */
+  uint64_t file_bytes;          /* size of the file or memory block */
 } dng_field_info;
 
 /** Fills *out_info. DNG_INVALID_ARGUMENT (nothing written) when either is NULL. Thread-safe. */
