@@ -394,6 +394,35 @@ TEST_F(ImportTest, JsonReportsEveryInputAndNode) {
       << dump.output;
 }
 
+// Inputs that crashed or leaked in assimp's readers under tests/fuzz/fuzz_assimp.cpp (first byte: the
+// extension, as the fuzzer picks it). dngbake must answer each with a documented exit code and a
+// message: the crash happens in the importer's child process.
+TEST_F(ImportTest, AssimpReaderCrashesBecomeInvalidInput) {
+  static const char* const kExtensions[] = {"fbx", "dae", "3ds", "ac", "x", "lwo", "ase", "ms3d", "off", "nff"};
+  std::size_t replayed = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(DNG_ASSIMP_REGRESSIONS)) {
+    const std::string bytes = testing::readFile(entry.path().string());
+    ASSERT_FALSE(bytes.empty());
+    const std::string input =
+        path(entry.path().filename().string() + "." + kExtensions[static_cast<unsigned char>(bytes[0]) % 10]);
+    std::ofstream(input, std::ios::binary) << bytes.substr(1);
+    const testing::ProgramRun run = runDngbake(input + " -o " + path("out.dng"));
+    SCOPED_TRACE(entry.path().filename().string() + ": " + run.output);
+    EXPECT_GE(run.exit_code, 0); // -1: dngbake itself died
+    EXPECT_LE(run.exit_code, 5);
+    if (entry.path().filename() == "ase_misspelt_vertex_count") {
+      EXPECT_EQ(run.exit_code, 3);
+      EXPECT_NE(run.output.find("assimp crashed reading it"), std::string::npos);
+    }
+    if (run.exit_code != 0) {
+      EXPECT_FALSE(std::filesystem::exists(path("out.dng")));
+    }
+    std::filesystem::remove(path("out.dng"));
+    ++replayed;
+  }
+  EXPECT_GE(replayed, 2u);
+}
+
 // AC3D, a text format only assimp reads here: an object with a name and a location.
 TEST_F(ImportTest, AssimpScenesBakeWithTheirNodeTransforms) {
   const testing::Mesh cube = testing::boxMesh({0, 0, 0}, {0.5f, 0.5f, 0.5f});

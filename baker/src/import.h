@@ -4,6 +4,7 @@
 //   import_openmesh.cpp  OBJ, OFF, PLY, STL, OM through OpenMesh (load_mesh.cpp)
 //   import_gltf.cpp      glTF 2.0 (.gltf, .glb) through tinygltf
 //   import_assimp.cpp    FBX, COLLADA, 3DS, Blender and assimp's other formats
+//   import_isolated.cpp  an importer in a child process, for readers that crash on bad files
 //   import_inputs.cpp    the choice of importer, several inputs into one soup, units
 #pragma once
 
@@ -79,8 +80,19 @@ BakeStatus importOpenMesh(const std::string& path, const ImportOptions& options,
                           ImportReport* out_report);
 BakeStatus importGltf(const std::string& path, const ImportOptions& options, TriangleSoup* io_soup,
                       ImportReport* out_report);
+/// assimp in a child process (importIsolated): a reader that crashes is invalid input, not a crash.
 BakeStatus importAssimp(const std::string& path, const ImportOptions& options, TriangleSoup* io_soup,
                         ImportReport* out_report);
+/// assimp in this process: for the fuzzer, which must see the crashes importAssimp contains.
+BakeStatus importAssimpInProcess(const std::string& path, const ImportOptions& options, TriangleSoup* io_soup,
+                                 ImportReport* out_report);
+
+/// Runs `importer` in a forked child and appends what it read to *io_soup. A child killed by a signal
+/// (a reader crashing on a malformed file) gives kInvalidInput naming the signal; *io_report keeps the
+/// fields set before the call (importer, format) and takes the child's report. The child runs one
+/// importer and exits; a reader that hangs hangs the caller (Ctrl-C ends both). POSIX only.
+BakeStatus importIsolated(ImportFn importer, const std::string& path, const ImportOptions& options,
+                          TriangleSoup* io_soup, ImportReport* io_report);
 
 /// Whether assimp reads files with this lower-case extension (no dot). OpenMesh's and glTF's are
 /// taken by their own importers first.
