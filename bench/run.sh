@@ -14,4 +14,6 @@ for program in field_query_bench particle_step_bench bake_bench; do
 done
 python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle_step_bench.json" "$build/bake_bench.json" \
   >"$root/docs/PERFORMANCE.md"
+echo "bench/run.sh: running accuracy_bench" >&2
+"$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$root/docs/PERFORMANCE.md"
 echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2

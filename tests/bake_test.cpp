@@ -184,10 +184,10 @@ TEST_F(BakeTest, FlatFaceNormalsInExactAndNormalBlurModes) {
 }
 
 // The promise the runtime's walk rests on (docs/FORMAT.md §5): anywhere in a voxel's cell, not only at
-// its centre, a field value >= 0 is at most the true signed distance (so it proves the point outside
-// and a ball of that radius clear). Checked at random points
-// against brute force over the triangles, on shapes with concave creases, thin parts and curvature,
-// in every normal mode.
+// its centre, a field value >= 0 is at most the true signed distance, up to the hundredth of a voxel
+// the runtime's walk keeps as a margin (so it proves the point outside and a ball of that radius clear). Checked at
+// random points against brute force over the triangles, on shapes with concave creases, thin parts and curvature, in
+// every normal mode.
 TEST_F(BakeTest, PlanesBoundTheTrueDistanceAnywhereInTheirCells) {
   const std::vector<Shape> shapes = {
       {"notch", testing::lBlockMesh({-1.0f, -1.0f, -0.4f}, 1.0f, 0.8f)},
@@ -214,8 +214,10 @@ TEST_F(BakeTest, PlanesBoundTheTrueDistanceAnywhereInTheirCells) {
         ++checked;
         const float truth =
             testing::bruteDistance(shape.mesh, p) * (testing::bruteWinding(shape.mesh, p) > 0.5 ? -1.0f : 1.0f);
-        if (s.distance >= 0.0f) {
-          ASSERT_LE(s.distance, truth + 1e-4f * g.voxel_size) << p.x << " " << p.y << " " << p.z;
+        // The runtime never takes more than the guaranteed reach from a sample (FORMAT.md §5.1).
+        const float value = std::min(s.distance, view.guaranteedReach());
+        if (value >= 0.0f) {
+          ASSERT_LE(value, truth + 0.01f * g.voxel_size) << p.x << " " << p.y << " " << p.z;
         }
       }
       EXPECT_EQ(checked, 2000);

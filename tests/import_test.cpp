@@ -159,7 +159,10 @@ protected:
   testing::TempDir dir_;
 };
 
-// Same grid, and every voxel centre answers the same within a thousandth of a voxel.
+// Same grid, and every voxel centre answers the same within a twentieth of a voxel. Exact distances
+// agree to float rounding, but the baker's conservative lowering of planes (a few hundredths of a voxel)
+// may go one way or the other on vertices one rounding apart; a wrong transform moves the surface by
+// whole voxels.
 void expectSameField(const View& a, const View& b) {
   const GridInfo& g = a.grid();
   ASSERT_EQ(g.dims[0], b.grid().dims[0]);
@@ -174,7 +177,7 @@ void expectSameField(const View& a, const View& b) {
         const Vec3f p = g.origin + Vec3f{float(i) + 0.5f, float(j) + 0.5f, float(k) + 0.5f} * g.voxel_size;
         const Sample sa = a.sample(p), sb = b.sample(p);
         in_band += sa.status == SampleStatus::kInBand;
-        const bool differ = sa.status != sb.status || std::abs(sa.distance - sb.distance) > 1e-3f * g.voxel_size;
+        const bool differ = sa.status != sb.status || std::abs(sa.distance - sb.distance) > 0.05f * g.voxel_size;
         if (differ && differing < 5)
           ADD_FAILURE() << "voxel " << i << ' ' << j << ' ' << k << ": status " << int(sa.status) << " vs "
                         << int(sb.status) << ", distance " << sa.distance << " vs " << sb.distance;

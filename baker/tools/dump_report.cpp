@@ -78,6 +78,7 @@ Json reportJson(const std::string& path, const View& view) {
   j["band"] = g.band;
   j["band_voxels"] = g.band / g.voxel_size;
   j["guaranteed_reach"] = view.guaranteedReach();
+  j["conservative_planes"] = view.conservativePlanes();
   const TileCounts& t = view.tileCounts();
   j["tiles"] = {{"far_outside", t.far_outside}, {"far_inside", t.far_inside}, {"plane", t.plane}, {"brick", t.brick}};
   j["voxels_in_band"] = band;
@@ -105,6 +106,9 @@ void printSummary(const std::string& path, const View& view) {
               j["bounds_max"][0].get<double>(), j["bounds_max"][1].get<double>(), j["bounds_max"][2].get<double>());
   std::printf("  band       %g (%.3g voxels); guaranteed reach %g\n", double(g.band), double(g.band / g.voxel_size),
               double(view.guaranteedReach()));
+  std::printf("  planes     %s\n", view.conservativePlanes()
+                                       ? "conservative (a lower bound of the distance over each voxel)"
+                                       : "as written (no conservative-plane promise)");
   if (g.encoding == format::Encoding::kBricked) {
     const TileCounts& t = view.tileCounts();
     std::printf("  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",

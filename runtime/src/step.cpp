@@ -99,7 +99,12 @@ public:
     for (std::size_t b = 0; b < count && b < kStored; ++b)
       stored_[b] = motionOf(bodies[b], dt);
   }
-  BodyMotion operator[](std::size_t b) const { return b < kStored ? stored_[b] : motionOf(bodies_[b], dt_); }
+  /// Body b's motion: a stored one, or computed into *scratch.
+  const BodyMotion& get(std::size_t b, BodyMotion* scratch) const {
+    if (b < kStored) return stored_[b];
+    *scratch = motionOf(bodies_[b], dt_);
+    return *scratch;
+  }
 
 private:
   static BodyMotion motionOf(const Body& body, float dt) { return {poseAfter(body, dt), bodyTravel(body, dt)}; }
@@ -174,7 +179,8 @@ Stop firstStop(const Body* bodies, std::size_t body_count, const BodyMotions& mo
   for (std::size_t b = 0; b < body_count; ++b) {
     const Body& body = bodies[b];
     if (!collides(body)) continue;
-    const BodyMotion motion = motions[b];
+    BodyMotion scratch;
+    const BodyMotion& motion = motions.get(b, &scratch);
     if (!segmentNearBounds(body, start, end, motion.travel)) continue;
     const Vec3f a = body.toLocal(start);
     const Pose& end_pose = motion.end;
@@ -215,7 +221,8 @@ void move(const Body* bodies, std::size_t body_count, const BodyMotions& motions
     return;
   }
   const Body& body = bodies[stop.body];
-  const Pose pose = motions[std::size_t(stop.body)].end;
+  BodyMotion scratch;
+  const Pose& pose = motions.get(std::size_t(stop.body), &scratch).end;
   io->position = stop.position;
   io->velocity = bounce(body, pose, stop, io->velocity);
   io_touch->record(std::size_t(stop.body), 0.0f);

@@ -9,9 +9,18 @@ namespace dng {
 
 namespace {
 
+bool insideGrid(const GridInfo& g, Vec3f p) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo = component(g.origin, axis);
+    if (!(component(p, axis) >= lo && component(p, axis) < lo + float(g.dims[axis]) * g.voxel_size)) return false;
+  }
+  return true;
+}
+
 // Clips the segment a + t d, t in [0, 1], to the grid's box; false when it misses. The box holds the
 // whole band with padding, so the parts of a segment outside it are clear.
 bool clipToGrid(const GridInfo& g, Vec3f a, Vec3f d, float* io_t0, float* io_t1) {
+  if (insideGrid(g, a) && insideGrid(g, a + d)) return true; // the common case: nothing to clip
   for (int axis = 0; axis < 3; ++axis) {
     const float lo = component(g.origin, axis);
     const float hi = lo + float(g.dims[axis]) * g.voxel_size;
@@ -87,12 +96,12 @@ float fieldBound(const View& field, float reach, Vec3f p) {
   return neighbourBound(field, reach, p);
 }
 
-// Whether the field itself proves p outside: its own plane reads >= 0 there, or a neighbour's bound
-// does. A walk only ever leaves a particle at such a point, so the next step can prove it again.
-bool provable(const View& field, float reach, Vec3f p, const Sample& s) {
+// Whether the field itself proves p outside: its own plane reads >= `proof` there, or a neighbour's
+// bound does. A walk only ever leaves a particle at such a point, so the next step can prove it again.
+bool provable(const View& field, float reach, float proof, Vec3f p, const Sample& s) {
   if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return true;
-  if (s.status == SampleStatus::kInBand && s.distance >= 0.0f) return true;
-  return neighbourBound(field, reach, p) >= 0.0f;
+  if (s.status == SampleStatus::kInBand && s.distance >= proof) return true;
+  return neighbourBound(field, reach, p) >= proof;
 }
 
 } // namespace
@@ -114,6 +123,9 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   // Steps past a cell wall land in the next cell: a fraction of a voxel, far below any margin.
   const float nudge = 2e-3f * g.voxel_size / len;
   const Vec3f back = d * (-1.0f / len);
+  // A value proves a point outside from here up: files keep their promise to a hundredth of a voxel
+  // (FORMAT.md §5.1), so half the margin leaves room for that.
+  const float proof_level = 0.5f * margin;
   // The last points the field proves outside by itself, where a blocked walk stops; -1: none yet.
   // Own: by the point's own cell, so the next step can always recede along that cell's normal.
   // Any: by a neighbour's bound as well, the fallback.
@@ -128,12 +140,12 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       continue;
     }
     const float q = s.status == SampleStatus::kFarInside ? -reach : std::min(s.distance, reach);
-    if (q >= 0.0f) proof = proof_own = t;
+    if (q >= proof_level) proof = proof_own = t;
     float clear = q - margin;
     if (clear >= (t_end - t) * len) { // one ball covers the rest: the end must be provable too
       if (clear - (t_end - t) * len >= roomy) return {};
       const Vec3f end = a + d * t_end;
-      if (provable(field, reach, end, field.sample(end))) return {};
+      if (provable(field, reach, proof_level, end, field.sample(end))) return {};
       // Clear, but the next step could not prove the end outside again (beside an edge the planes
       // cannot resolve): turn back from the last point it can.
       return stopAt(WalkStop::kReverse, std::max(proof_own >= 0.0f ? proof_own : proof, 0.0f), back);
@@ -148,7 +160,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       const float hit = t + clear / -rate;
       if (hit < exit && hit < t_end) return stopAt(WalkStop::kPlane, hit, s.normal);
     }
-    if (clear >= 0.0f || (rate >= 0.0f && q >= 0.0f && s.status == SampleStatus::kInBand)) {
+    if (clear >= 0.0f || (rate >= 0.0f && q >= proof_level && s.status == SampleStatus::kInBand)) {
       // Clear to the cell's wall: the plane stays above the margin, or rises from a value >= 0, so the
       // plane proves every point up to the wall; the ball may reach further.
       proof = proof_own = std::min(exit - nudge, t_end);
@@ -158,13 +170,13 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
     }
     // This cell's plane cannot clear the way: ask the cells around the point.
     const float bound = neighbourBound(field, reach, p);
-    if (bound >= 0.0f) proof = t;
+    if (bound >= proof_level) proof = t;
     clear = bound - margin;
     if (clear > 0.0f) {
       t += clear / len;
       continue;
     }
-    if (bound >= 0.0f) {
+    if (bound >= proof_level) {
       // Proven outside but cramped, as beside an edge: two balls, here and at the end, may still
       // cover the rest (a particle leaving the surface).
       const Vec3f end = a + d * t_end;
@@ -179,7 +191,8 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
     // A plane that reads >= 0 here and falls along the motion is what blocks: bounce off it. Below
     // zero the plane may be a loose one (the face beside an edge), and its normal no guide: go back.
     const float stop = proof_own >= 0.0f ? proof_own : proof;
-    return rate < 0.0f && q >= 0.0f ? stopAt(WalkStop::kPlane, stop, s.normal) : stopAt(WalkStop::kReverse, stop, back);
+    return rate < 0.0f && q >= proof_level ? stopAt(WalkStop::kPlane, stop, s.normal)
+                                           : stopAt(WalkStop::kReverse, stop, back);
   }
   return t >= t_end ? WalkResult{}
                     : stopAt(WalkStop::kStall, std::max(proof_own >= 0.0f ? proof_own : proof, 0.0f), back);

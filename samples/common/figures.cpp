@@ -89,6 +89,7 @@ FallingResult runFalling(float restitution, float drag, const RunOptions& o) {
   m.contact_distance = 0.1f; // theta = 1 voxel, as the paper's Fig. 3c
   SceneSetup setup;
   setup.bodies = {placeBody(field->view, m)};
+  setup.inside = [](Vec3f p) { return analytic::boxField({0, 0, -1}, {2, 2, 1})(p).distance < 0.0f; };
   setup.steps = 180;
   setup.spawn_per_step = sized(o, 2000);
   setup.spawn = [](std::mt19937& rng, Vec3f* p, Vec3f* v) {
@@ -127,10 +128,12 @@ FallingResult runFalling(float restitution, float drag, const RunOptions& o) {
 namespace {
 
 // Fires a stream along `direction` from a disk of `radius` centred on `from`; measures who got past.
-StreamResult runStream(const std::vector<Body>& bodies, Vec3f from, Vec3f direction, float speed, float radius,
-                       bool gravity, float past, const RunOptions& o, Vec3f view_lo, Vec3f view_hi, Colour colour) {
+StreamResult runStream(const std::vector<Body>& bodies, const analytic::AnalyticField& shape, Vec3f from,
+                       Vec3f direction, float speed, float radius, bool gravity, float past, const RunOptions& o,
+                       Vec3f view_lo, Vec3f view_hi, Colour colour) {
   SceneSetup setup;
   setup.bodies = bodies;
+  setup.inside = [shape](Vec3f p) { return shape(p).distance < 0.0f; }; // the body sits at the origin
   setup.forces.gravity = gravity ? Vec3f{0, 0, -9.81f} : Vec3f{};
   // Without gravity the stream is carried by the air moving with it (as smoke in a draught), so
   // particles slowed by the obstacle pick up speed again downstream.
@@ -186,21 +189,21 @@ Material flowMaterial(float rho_in, float rho_out, float flow_distance) {
 } // namespace
 
 StreamResult runSphereStream(bool from_above, const RunOptions& o) {
-  static const auto field =
-      generateField(analytic::sphereField({0, 0, 0}, 1.0f), {-1.4f, -1.4f, -1.4f}, {1.4f, 1.4f, 1.4f}, 0.05f, 4);
+  const analytic::AnalyticField shape = analytic::sphereField({0, 0, 0}, 1.0f);
+  static const auto field = generateField(shape, {-1.4f, -1.4f, -1.4f}, {1.4f, 1.4f, 1.4f}, 0.05f, 4);
   const std::vector<Body> bodies = {placeBody(field->view, flowMaterial(12.0f, 3.0f, 0.2f))};
   if (from_above)
-    return runStream(bodies, {0, 0, 2.5f}, {0, 0, -1}, 2.0f, 0.7f, true, 3.5f, o, {-2.5f, -2.5f, -2.5f},
+    return runStream(bodies, shape, {0, 0, 2.5f}, {0, 0, -1}, 2.0f, 0.7f, true, 3.5f, o, {-2.5f, -2.5f, -2.5f},
                      {2.5f, 2.5f, 2.5f}, {0.2f, 0.55f, 1.0f});
-  return runStream(bodies, {-2.5f, 0, 0}, {1, 0, 0}, 3.0f, 0.7f, false, 3.5f, o, {-2.5f, -2.5f, -2.5f},
+  return runStream(bodies, shape, {-2.5f, 0, 0}, {1, 0, 0}, 3.0f, 0.7f, false, 3.5f, o, {-2.5f, -2.5f, -2.5f},
                    {2.5f, 2.5f, 2.5f}, {0.2f, 0.55f, 1.0f});
 }
 
 StreamResult runShaftStream(float rho_in, float rho_out, float flow_distance, const RunOptions& o) {
-  static const auto field = generateField(analytic::cylinderField({0, 0, 0}, 0.4f, 1.0f), {-0.8f, -0.8f, -1.4f},
-                                          {0.8f, 0.8f, 1.4f}, 0.04f, 5);
+  const analytic::AnalyticField shape = analytic::cylinderField({0, 0, 0}, 0.4f, 1.0f);
+  static const auto field = generateField(shape, {-0.8f, -0.8f, -1.4f}, {0.8f, 0.8f, 1.4f}, 0.04f, 5);
   const std::vector<Body> bodies = {placeBody(field->view, flowMaterial(rho_in, rho_out, flow_distance))};
-  return runStream(bodies, {2.0f, 0, 0}, {-1, 0, 0}, 2.5f, 0.5f, false, 2.8f, o, {-2.2f, -1.6f, -1.2f},
+  return runStream(bodies, shape, {2.0f, 0, 0}, {-1, 0, 0}, 2.5f, 0.5f, false, 2.8f, o, {-2.2f, -1.6f, -1.2f},
                    {2.2f, 1.6f, 1.2f}, {1.0f, 0.5f, 0.15f});
 }
 
@@ -214,10 +217,18 @@ ExplosionResult runExplosion(const RunOptions& o) {
   m.swept = true; // the blast throws particles far faster than the fields' reach per step
   SceneSetup setup;
   setup.bodies.push_back(placeBody(ground->view, m));
+  std::vector<Vec3f> sites;
   for (int i = 0; i < 6; ++i) { // one field, six buildings
     const float a = 2 * kPi * float(i) / 6.0f + 0.3f;
-    setup.bodies.push_back(placeBody(building->view, m, {2.4f * std::cos(a), 2.4f * std::sin(a), 0.0f}));
+    sites.push_back({2.4f * std::cos(a), 2.4f * std::sin(a), 0.0f});
+    setup.bodies.push_back(placeBody(building->view, m, sites.back()));
   }
+  setup.inside = [sites](Vec3f p) {
+    bool inside = analytic::boxField({0, 0, -0.25f}, {6, 6, 0.25f})(p).distance < 0.0f;
+    for (const Vec3f& site : sites)
+      inside = inside || analytic::boxField(site + Vec3f{0, 0, 1.0f}, {0.6f, 0.6f, 1.0f})(p).distance < 0.0f;
+    return inside;
+  };
   setup.forces.air_drag = 1.5f;
   setup.forces.explosion_strength = 150.0f;
   setup.forces.explosion_centre = {0, 0, 0.3f};
@@ -349,6 +360,9 @@ SceneStats runDemo(const View& field, int up, const RunOptions& o) {
   Swarm swarm;
   const SceneStats stats = runScene(setup, &swarm, trails.recorder());
   trails.write();
+  if (o.final_positions != nullptr)
+    for (std::size_t n = 0; n < swarm.size(); ++n)
+      o.final_positions->push_back(swarm.position(n));
   return stats;
 }
 

@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace dng {
 namespace samples {
@@ -25,6 +26,8 @@ struct RunOptions {
   int particles = 0;
   std::string picture_prefix; ///< empty: no pictures
   int picture_pixels = 640;
+  /// When set, the scenes that support it (the demo) store where every particle ended, world frame.
+  std::vector<Vec3f>* final_positions = nullptr;
 };
 
 /// Fig. 3: particles falling on a table-like box. (a) bouncy beta = 0.7, (b) slippery beta = 0,

@@ -78,7 +78,12 @@ SceneStats runScene(const SceneSetup& setup, Swarm* swarm, const std::function<v
     if (on_step) on_step(*swarm, step);
   }
   stats.particles = swarm->size();
-  stats.inside = countInside(setup.bodies, *swarm);
+  if (setup.inside) {
+    for (std::size_t n = 0; n < swarm->size(); ++n)
+      stats.inside += setup.inside(swarm->position(n)) ? 1 : 0;
+  } else {
+    stats.inside = countInside(setup.bodies, *swarm);
+  }
   return stats;
 }
 

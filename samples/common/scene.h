@@ -50,6 +50,9 @@ struct SceneSetup {
   int spawn_per_step = 100;
   int spawn_steps = 1; ///< spawn during the first steps only
   std::uint32_t seed = 1;
+  /// The true shape, when the sample knows it (world frame): whether a point is inside any body. Then
+  /// SceneStats::inside counts with it; otherwise with the bodies' fields.
+  std::function<bool(Vec3f)> inside;
 };
 
 struct SceneStats {
@@ -57,7 +60,7 @@ struct SceneStats {
   int steps = 0;
   double step_seconds = 0.0;  ///< time inside stepParticles only
   std::uint64_t contacts = 0; ///< particle-steps in which a body acted
-  std::size_t inside = 0;     ///< particles that end inside any body (by its field)
+  std::size_t inside = 0;     ///< particles that end inside any body (SceneSetup::inside, else the fields)
   double particleStepsPerSecond() const;
   /// One line of JSON, e.g. for the samples' output.
   std::string json(const std::string& name) const;

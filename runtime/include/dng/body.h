@@ -41,8 +41,9 @@ struct Material {
   float flow_out = 0.0f;
   /// The surface flow's reach from the surface.
   float flow_distance = 0.0f;
-  /// Trace each step's segment through the field (sphere tracing) so particles faster than
-  /// band / dt cannot tunnel through the body. Costs a few extra samples per particle near it.
+  /// Every step is walked through the field, so no particle tunnels at any speed (docs/RUNTIME.md).
+  /// Swept bodies let the walk take up to 256 samples instead of 24, so a particle far faster than
+  /// the design speed is never stopped short of where it was going; it costs only those samples.
   bool swept = false;
 };
 

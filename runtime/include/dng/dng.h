@@ -160,7 +160,7 @@ typedef struct dng_material {
   float flow_in;            /* rho_in, world units/s^2 */
   float flow_out;           /* rho_out */
   float flow_distance;      /* world units */
-  uint32_t swept;           /* 1 = trace each step's segment so fast particles cannot tunnel */
+  uint32_t swept;           /* 1 = 256 walk samples per step instead of 24 (docs/RUNTIME.md) */
 } dng_material;
 
 DNG_API void dng_material_default(dng_material* out_material);

@@ -31,9 +31,12 @@ struct ParticleSpan {
 
 /// One time step for every particle: for each body whose bounds contain the particle, sample its
 /// field and apply the body's material (bounce, drag, surface flow) to the velocity relative to the
-/// body's surface; then move the particle by velocity * dt (tracing the segment through bodies whose
-/// material is swept). Gravity and other forces are the caller's: add them to the velocities first
-/// (see dng/forces.h).
+/// body's surface; then move the particle by velocity * dt, walked through every colliding body near
+/// the move in the body's frame from its pose now to its pose after dt at its velocities, stopping
+/// where the field no longer proves the way clear (docs/RUNTIME.md, "The walk"): a blocked particle
+/// bounces off the blocking plane and slides along it. Bodies' transforms are their poses at the start
+/// of the step. Gravity and other forces are the caller's: add them to the velocities first (see
+/// dng/forces.h).
 ///
 /// No allocation, no exceptions, no virtual calls. Particles are independent, so callers may split a
 /// span across threads. Fails without touching any particle when dt is not finite and > 0, a body is
