@@ -390,6 +390,13 @@ TEST_F(ImportTest, JsonReportsEveryInputAndNode) {
   EXPECT_EQ(glb["nodes"][0]["transform"].size(), 16u);
   EXPECT_EQ(j["inputs"][1]["importer"], "openmesh");
   EXPECT_EQ(j["inputs"][1]["triangles"], 12);
+  // One name per --node: the word after it is an input again.
+  const testing::ProgramRun left = runDngbake("--node left " + path("cubes.glb") + " " + path("other.off") + " -o " +
+                                              path("left.dng") + " --resolution 24 --json");
+  ASSERT_EQ(left.exit_code, 0) << left.output;
+  const nlohmann::json l = nlohmann::json::parse(left.output);
+  EXPECT_EQ(l["inputs"].size(), 2u);
+  EXPECT_EQ(l["mesh"]["triangles"], 24); // the left cube and the OFF file's cube
   // dngdump shows how the sources' units became the field's.
   const testing::ProgramRun dump = testing::runProgram(std::string(DNG_DNGDUMP_PATH) + " " + path("out.dng"));
   ASSERT_EQ(dump.exit_code, 0) << dump.output;

@@ -26,7 +26,8 @@ void addImportOptions(CLI::App& app, baker::BakeInputs& inputs) {
       ->required();
   app.add_option("--scene", inputs.import.scene, "scene files: the scene to bake (default: the file's default)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--node", inputs.import.nodes, "scene files: bake only this node's subtree (repeatable)");
+  app.add_option("--node", inputs.import.nodes, "scene files: bake only this node's subtree (repeatable)")
+      ->allow_extra_args(false); // one name per --node: the next word is an input again
   app.add_option_function<std::string>(
          "--units", [&inputs](const std::string& name) { baker::parseLengthUnit(name, &inputs.units.field); },
          "the field's unit; inputs in other known units are converted")
