@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 namespace dng {
@@ -297,6 +298,45 @@ TEST_F(ImportTest, StripsFansIndexTypesAndMirrorsKeepTheWinding) {
     const Vec3f n = cross(soup.vertices[tri[1]] - soup.vertices[tri[0]], soup.vertices[tri[2]] - soup.vertices[tri[0]]);
     EXPECT_GT(n.z, 0.0f) << "triangle " << t; // mirrored in x, flipped back: a mirrored +z face still faces +z
   }
+}
+
+// KHR_mesh_quantization: positions as normalized shorts, scaled back by the node (as exporters do).
+TEST_F(ImportTest, QuantizedPositionsAreReadAsTheSpecSays) {
+  GltfScene scene;
+  scene.meshes = {{GltfPrimitive{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {}, 5123, 4}}};
+  GltfNode node;
+  node.name = "quantized";
+  node.mesh = 0;
+  node.scale = {2, 2, 2};
+  scene.nodes = {node};
+  scene.scenes = {{0}};
+  GltfFile file = testing::buildGltf(scene);
+  const std::int16_t shorts[12] = {0, 0, 0, 0, 32767, -32767, 0, 0, 16384, 32767, 0, 0}; // xyz + padding
+  const std::size_t offset = file.bin.size();
+  file.bin.resize(offset + sizeof shorts);
+  std::memcpy(file.bin.data() + offset, shorts, sizeof shorts);
+  file.json["buffers"][0]["byteLength"] = file.bin.size();
+  file.json["bufferViews"].push_back(
+      {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", sizeof shorts}, {"byteStride", 8}});
+  file.json["accessors"].push_back({{"bufferView", file.json["bufferViews"].size() - 1},
+                                    {"componentType", 5122},
+                                    {"normalized", true},
+                                    {"count", 3},
+                                    {"type", "VEC3"}});
+  file.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = file.json["accessors"].size() - 1;
+  file.json["extensionsUsed"] = {"KHR_mesh_quantization"};
+  file.json["extensionsRequired"] = {"KHR_mesh_quantization"};
+  saveGltf(file, path("quantized.glb"), GltfStorage::kBinaryGlb);
+  TriangleSoup soup;
+  std::vector<ImportReport> reports;
+  std::vector<std::string> warnings;
+  const BakeStatus status = importInputs({path("quantized.glb")}, {}, {}, &soup, &reports, &warnings);
+  ASSERT_TRUE(status.ok()) << status.message;
+  ASSERT_EQ(soup.vertices.size(), 3u);
+  EXPECT_NEAR(soup.vertices[1].x, 2.0f, 1e-6f);  // 32767 -> 1, times the node's 2
+  EXPECT_NEAR(soup.vertices[1].y, -2.0f, 1e-6f); // -32767 -> -1
+  EXPECT_NEAR(soup.vertices[2].x, 2.0f * 16384.0f / 32767.0f, 1e-6f);
+  EXPECT_NEAR(soup.vertices[2].y, 2.0f, 1e-6f);
 }
 
 // ---- Bad inputs through the program: exit code, message, no output ----
