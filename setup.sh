@@ -8,11 +8,15 @@
 #   bash setup.sh tsan           build and test the runtime with ThreadSanitizer (no baker)
 #   bash setup.sh determinism    bake one mesh with --threads 1 and --threads 2, compare the bytes
 #   bash setup.sh runtime-only   build and test format + runtime with the baker and its libraries off
+#   bash setup.sh package        install (full and runtime-only) into temporary prefixes, build C and C++
+#                                consumers against them, check libdngrid's exported symbols
 #   bash setup.sh format-check   check clang-format on every source file
 #   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
 #   bash setup.sh leaks          run the full leak table (particles judged on the triangles), write docs/LEAKS.md
 #   bash setup.sh fuzz [SECONDS] fuzz the loader (default 60 s) and dngdump (half that), replay regressions
 #   bash setup.sh fuzz-meshes [SECONDS]  fuzz mesh loading, open-ended (default 300 s)
+#   bash setup.sh fuzz-scenes [SECONDS]  fuzz the glTF importer, open-ended (default 300 s)
+#   bash setup.sh fuzz-assimp [SECONDS]  fuzz assimp's readers in process, open-ended (default 300 s)
 #
 # Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
 # Every command installs what it needs first; running it twice does no extra work.
@@ -26,7 +30,7 @@ WERROR="${DNG_WERROR:-OFF}"
 PACKAGES_BUILD=(cmake ninja-build g++ pkg-config clang-format bc)
 PACKAGES_TEST=(libgtest-dev libgmock-dev libbenchmark-dev libxxhash-dev)
 PACKAGES_BAKER=(libopenmesh-dev libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev libcli11-dev
-                libtbb-dev libpng-dev nlohmann-json3-dev libxxhash-dev)
+                libtbb-dev libpng-dev nlohmann-json3-dev libxxhash-dev libtinygltf-dev libassimp-dev)
 
 log() { printf 'setup.sh: %s\n' "$*" >&2; }
 
@@ -123,13 +127,10 @@ cmd_determinism() {
 # format/ or runtime/ source includes their headers (which are installed on this machine).
 cmd_runtime_only() {
   install_packages "${PACKAGES_BUILD[@]}" libgtest-dev libgmock-dev
-  if grep -rnE '#include *[<"](openvdb|nanovdb|embree[34]?|OpenMesh|CLI|tbb|oneapi)/' "$ROOT/format" "$ROOT/runtime"; then
+  if grep -rnE '#include *[<"](openvdb|nanovdb|embree[34]?|OpenMesh|CLI|tbb|oneapi|assimp)/|tiny_gltf' "$ROOT/format" "$ROOT/runtime"; then
     log "format/ or runtime/ includes a baker library header"; exit 1
   fi
-  configure_and_build "$ROOT/build/runtime-only" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BAKER=OFF \
-    -DDNG_BUILD_BENCH=OFF -DDNG_BUILD_TESTS=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON \
-    -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON \
-    -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON
+  configure_and_build "$ROOT/build/runtime-only" "${RUNTIME_ONLY_FLAGS[@]}"
   run_tests "$ROOT/build/runtime-only"
   check_embedding
 }
@@ -150,6 +151,60 @@ check_embedding() {
   fi
 }
 
+# Runtime-only build flags: every baker library made unfindable.
+RUNTIME_ONLY_FLAGS=(-DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_BENCH=OFF -DDNG_BUILD_TESTS=ON
+  -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON
+  -DCMAKE_DISABLE_FIND_PACKAGE_OpenVDB=ON -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON -DCMAKE_DISABLE_FIND_PACKAGE_TBB=ON
+  -DCMAKE_DISABLE_FIND_PACKAGE_TinyGLTF=ON -DCMAKE_DISABLE_FIND_PACKAGE_assimp=ON)
+
+# check_install <prefix> <file.dng> <ON|OFF: baker expected>: what a user of the installed tree does.
+check_install() {
+  local prefix="$1" dng="$2" baker="$3" work="$1/consumers"
+  mkdir -p "$work"
+  local pc_dir
+  pc_dir=$(dirname "$(find "$prefix" -name dngrid.pc | head -n 1)")
+  [ -f "$pc_dir/dngrid.pc" ] || { log "no dngrid.pc under $prefix"; exit 1; }
+  local cflags libs libdir
+  cflags=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --cflags dngrid)
+  libs=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --libs dngrid)
+  libdir=$(PKG_CONFIG_PATH="$pc_dir" pkg-config --variable=libdir dngrid)
+  # shellcheck disable=SC2086 # the flags are words
+  cc -std=c99 -Wall -Wextra -pedantic -Werror "$ROOT/tests/install/c_consumer.c" $cflags $libs \
+    -Wl,-rpath,"$libdir" -o "$work/c_consumer"
+  "$work/c_consumer" "$dng"
+  cmake -S "$ROOT/tests/install/cpp_consumer" -B "$work/cpp" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$prefix" -DDNG_EXPECT_BAKER="$baker" >/dev/null
+  cmake --build "$work/cpp" >/dev/null
+  "$work/cpp/cpp_consumer" "$dng"
+  sh "$ROOT/tests/check_exports.sh" "$libdir/libdngrid.so" "$ROOT/tests/abi/libdngrid.symbols"
+  if [ "$baker" = ON ]; then
+    [ -x "$prefix/bin/dngbake" ] && [ -x "$prefix/bin/dngdump" ] || { log "tools not installed"; exit 1; }
+  elif [ -e "$prefix/bin/dngbake" ]; then
+    log "the runtime-only install has dngbake"; exit 1
+  fi
+}
+
+# Installs the full build and the runtime-only build into temporary prefixes and builds programs
+# against each as an outside project would: C through pkg-config, C++ through find_package(dngrid).
+PACKAGE_TMP=""
+cmd_package() {
+  deps
+  PACKAGE_TMP=$(mktemp -d)
+  trap 'rm -rf "$PACKAGE_TMP"' EXIT
+  local tmp="$PACKAGE_TMP"
+  configure_and_build "$ROOT/build/release" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_TESTS=ON
+  cmake --install "$ROOT/build/release" --prefix "$tmp/full" >/dev/null
+  # A cube, baked by the installed dngbake, for the consumers to open.
+  printf 'OFF\n8 6 0\n-1 -1 -1\n1 -1 -1\n-1 1 -1\n1 1 -1\n-1 -1 1\n1 -1 1\n-1 1 1\n1 1 1\n4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n' >"$tmp/cube.off"
+  "$tmp/full/bin/dngbake" "$tmp/cube.off" -o "$tmp/cube.dng" --resolution 32 --quiet
+  "$tmp/full/bin/dngdump" "$tmp/cube.dng" --check
+  check_install "$tmp/full" "$tmp/cube.dng" ON
+  configure_and_build "$ROOT/build/runtime-only" "${RUNTIME_ONLY_FLAGS[@]}"
+  cmake --install "$ROOT/build/runtime-only" --prefix "$tmp/runtime" >/dev/null
+  check_install "$tmp/runtime" "$tmp/cube.dng" OFF
+  log "package: full and runtime-only installs build and run C and C++ consumers"
+}
+
 cmd_format_check() {
   install_packages clang-format
   cd "$ROOT"
@@ -168,7 +223,7 @@ fetch_data() {
 }
 
 build_fuzzers() {
-  install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev libopenmesh-dev
+  install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev libopenmesh-dev libtinygltf-dev libassimp-dev
   CC=clang CXX=clang++ configure_and_build "$ROOT/build/fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDNG_BUILD_FUZZ=ON \
     -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF
 }
@@ -186,6 +241,31 @@ cmd_fuzz() {
   "$build/tests/fuzz/fuzz_open" -max_total_time="$seconds" -max_len=65536 -print_final_stats=1 "$corpus"
   "$build/tests/fuzz/fuzz_dump" -max_total_time="$((seconds / 2))" -max_len=65536 -timeout=10 -print_final_stats=1 "$corpus"
   "$build/tests/fuzz/fuzz_mesh" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/mesh_regressions/*
+  "$build/tests/fuzz/fuzz_gltf" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/gltf_regressions/*
+}
+
+# libFuzzer on the glTF importer, seeded with a one-triangle .gltf (embedded buffer) and .glb.
+cmd_fuzz_scenes() {
+  build_fuzzers
+  local build="$ROOT/build/fuzz" scenes="$ROOT/build/fuzz/gltf_corpus"
+  mkdir -p "$scenes"
+  cp "$ROOT"/tests/fuzz/gltf_regressions/* "$scenes/"
+  "$build/tests/fuzz/fuzz_gltf" -max_total_time="${1:-300}" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
+    -dict="$ROOT/tests/fuzz/gltf.dict" \
+    -print_final_stats=1 "$scenes"
+}
+
+# libFuzzer on assimp in process (dngbake runs it in a child process, so its crashes are exit code 3;
+# import_test replays tests/fuzz/assimp_regressions/ through dngbake). assimp leaks on some bad files:
+# leak reports are off.
+cmd_fuzz_assimp() {
+  build_fuzzers
+  local build="$ROOT/build/fuzz" corpus="$ROOT/build/fuzz/assimp_corpus"
+  mkdir -p "$corpus"
+  printf '\006*3DSMAX_ASCIIEXPORT 200\n*GEOMOBJECT {\n*NODE_NAME "a"\n*MESH {\n*MESH_NUMVERTEX 3\n*MESH_NUMFACES 1\n*MESH_VERTEX_LIST {\n*MESH_VERTEX 0 0 0 0\n*MESH_VERTEX 1 1 0 0\n*MESH_VERTEX 2 0 1 0\n}\n*MESH_FACE_LIST {\n*MESH_FACE 0: A: 0 B: 1 C: 2\n}\n}\n}\n' >"$corpus/ase"
+  printf '\004xof 0303txt 0032\nMesh m {\n3;\n0;0;0;,\n1;0;0;,\n0;1;0;;\n1;\n3;0,1,2;;\n}\n' >"$corpus/x"
+  "$build/tests/fuzz/fuzz_assimp" -max_total_time="${1:-300}" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
+    -detect_leaks=0 -print_final_stats=1 "$corpus"
 }
 
 # libFuzzer on mesh loading, seeded with one triangle per format and the regressions.
@@ -272,11 +352,14 @@ case "${1:-}" in
   tsan) cmd_tsan ;;
   determinism) cmd_determinism ;;
   runtime-only) cmd_runtime_only ;;
+  package) cmd_package ;;
   format-check) cmd_format_check ;;
   bench) cmd_bench ;;
   leaks) cmd_leaks ;;
   fuzz) cmd_fuzz "${2:-60}" ;;
   fuzz-meshes) cmd_fuzz_meshes "${2:-300}" ;;
+  fuzz-scenes) cmd_fuzz_scenes "${2:-300}" ;;
+  fuzz-assimp) cmd_fuzz_assimp "${2:-300}" ;;
   demo) cmd_demo ;;
-  *) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
+  *) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
 esac

@@ -448,7 +448,8 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   std::ofstream(path("misspelt.ply")) << "ply\nformat ascii 1.0\neLement vertex 3\nproperty float x\nend_header\n";
   // OpenMesh's OFF reader took a negative face count as a huge one and kept reading: fuzzing.
   std::ofstream(path("negative.off")) << "OFF\n 0  -1 2\n";
-  std::ofstream(path("mesh.fbx")) << "nope";
+  std::ofstream(path("mesh.xyzw")) << "nope";
+  std::ofstream(path("mesh.fbx")) << "nope"; // assimp reads FBX: a broken one is invalid input
   std::ofstream(path("keep.dng")) << "previous contents";
   struct Case {
     std::string args;
@@ -458,7 +459,8 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   const Case cases[] = {
       {path("empty.obj"), 3, "no faces"},
       {path("absent.obj"), 2, "no such file"},
-      {path("mesh.fbx"), 5, "unknown mesh format"},
+      {path("mesh.xyzw"), 5, "unknown mesh format"},
+      {path("mesh.fbx"), 3, "assimp could not read it"},
       {path("nan.stl"), 3, "declares 1 facets but OpenMesh kept 0"}, // OpenMesh drops the NaN facet
       {path("nan_text.obj"), 3, "no faces"},                         // the reader drops the face: we cannot tell why
       {path("flat.obj"), 3, "degenerate"},

@@ -1,4 +1,5 @@
-/* The C ABI from C: open a file, sample it, place a body, step particles through the scene.
+/* The C ABI from C: versions, open a file, its info and metadata, single and batch samples, place
+ * bodies, step particles through the scene, disable and remove bodies.
  * Uses tests/golden/bricked_box.dng: a box of half extent 6.25 centred at the origin, grid
  * [-12, 12)^3 of unit voxels, band 2. */
 #include "dng/dng.h"
@@ -25,6 +26,89 @@ static void test_versions(void) {
   CHECK(dng_version_compatible(DNG_VERSION) == 1);
   CHECK(dng_version_compatible(((uint32_t)(DNG_VERSION_MAJOR + 1) << 16)) == 0);
   CHECK(strcmp(dng_status_string(DNG_TRUNCATED), "file truncated") == 0);
+  CHECK(strcmp(dng_version_string(), DNG_VERSION_STRING) == 0);
+}
+
+static void test_info(const dng_field* box) {
+  dng_field_info info;
+  char small[8];
+  size_t length;
+  memset(&info, 0xAB, sizeof info);
+  CHECK(dng_field_get_info(box, &info) == DNG_OK);
+  CHECK(info.bounds_min[0] == -12.0f && info.bounds_min[1] == -12.0f && info.bounds_min[2] == -12.0f);
+  CHECK(info.bounds_max[0] == 12.0f && info.bounds_max[2] == 12.0f);
+  CHECK(info.voxel_size == 1.0f);
+  CHECK(info.dims[0] == 24 && info.dims[1] == 24 && info.dims[2] == 24);
+  CHECK(info.band == 2.0f);
+  CHECK(fabsf(info.guaranteed_reach - (2.0f - 0.8660254f)) < 1e-6f);
+  CHECK(info.encoding == DNG_ENCODING_BRICKED);
+  CHECK(info.brick_size > 0);
+  CHECK(info.format_version[0] == 1);
+  {
+    /* The golden file was written by this tree's writer: the newest version, which the library reads. */
+    char newest[16];
+    snprintf(newest, sizeof newest, "%u.%u", (unsigned)info.format_version[0], (unsigned)info.format_version[1]);
+    CHECK(strcmp(dng_format_version_string(), newest) == 0);
+  }
+  CHECK(info.file_bytes > 0);
+  CHECK(info.conservative_planes == 0); /* written by the test writer, not dngbake (tests/install checks 1) */
+  CHECK(dng_field_get_info(NULL, &info) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_field_get_info(box, NULL) == DNG_INVALID_ARGUMENT);
+
+  /* Sizing call, then a truncated copy that is still NUL-terminated. */
+  length = dng_field_metadata(box, NULL, 0);
+  CHECK(length > 0);
+  memset(small, 'x', sizeof small);
+  CHECK(dng_field_metadata(box, small, sizeof small) == length);
+  CHECK(small[sizeof small - 1] == '\0' && strlen(small) == sizeof small - 1);
+  {
+    char* text = (char*)malloc(length + 1);
+    CHECK(dng_field_metadata(box, text, length + 1) == length);
+    CHECK(text[0] == '{' && strlen(text) == length);
+    free(text);
+  }
+  CHECK(dng_field_metadata(NULL, small, sizeof small) == 0 && small[0] == '\0');
+}
+
+/* Points inside structs (stride 20), answers into structs (stride 32): same as one-by-one sampling. */
+static void test_batch(const dng_field* box) {
+  typedef struct {
+    float xyz[3];
+    float pad[2];
+  } point_t;
+  typedef struct {
+    dng_sample sample;
+    uint32_t marker[3];
+  } answer_t;
+  enum { kCount = 150 };
+  static point_t points[kCount];
+  static answer_t answers[kCount];
+  int i, same = 0, untouched = 0;
+  uint32_t mode;
+  for (mode = DNG_INTERPOLATION_NEAREST; mode <= DNG_INTERPOLATION_TRILINEAR; ++mode) {
+    for (i = 0; i < kCount; ++i) {
+      points[i].xyz[0] = -14.0f + 0.19f * (float)i;
+      points[i].xyz[1] = 0.3f;
+      points[i].xyz[2] = -0.7f + 0.01f * (float)i;
+      answers[i].marker[0] = 0xC0FFEEu;
+    }
+    CHECK(dng_field_sample_batch(box, points[0].xyz, sizeof(point_t), kCount, &answers[0].sample, sizeof(answer_t),
+                                 mode) == DNG_OK);
+    for (i = 0; i < kCount; ++i) {
+      const dng_sample one = dng_field_sample(box, points[i].xyz[0], points[i].xyz[1], points[i].xyz[2], mode);
+      same += one.status == answers[i].sample.status && (one.distance == answers[i].sample.distance ||
+                                                         (isinf(one.distance) && isinf(answers[i].sample.distance)));
+      untouched += answers[i].marker[0] == 0xC0FFEEu;
+    }
+  }
+  CHECK(same == 2 * kCount);
+  CHECK(untouched == 2 * kCount);
+  CHECK(dng_field_sample_batch(box, points[0].xyz, 8, kCount, &answers[0].sample, sizeof(answer_t), 0) ==
+        DNG_INVALID_ARGUMENT);
+  CHECK(dng_field_sample_batch(box, points[0].xyz, 12, kCount, &answers[0].sample, 8, 0) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_field_sample_batch(NULL, points[0].xyz, 12, kCount, &answers[0].sample, sizeof(dng_sample), 0) ==
+        DNG_INVALID_ARGUMENT);
+  CHECK(dng_field_sample_batch(box, NULL, 12, 0, NULL, sizeof(dng_sample), 0) == DNG_OK);
 }
 
 static void test_open_errors(void) {
@@ -110,6 +194,71 @@ static void test_stepping(const dng_field* box) {
   dng_scene_destroy(scene);
 }
 
+/* Two boxes side by side: count, bounds, disable, remove (the last body takes the index). */
+static void test_scene_queries(const dng_field* box) {
+  const float left[12] = {1, 0, 0, -30, 0, 1, 0, 0, 0, 0, 1, 0};
+  const float right[12] = {1, 0, 0, 30, 0, 1, 0, 0, 0, 0, 1, 0};
+  float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  float px = 30.0f + 6.25f + 0.5f, py = 0.0f, pz = 0.0f, vx = -20.0f, vy = 0.0f, vz = 0.0f;
+  uint8_t contact = 0;
+  int32_t touched = -7;
+  dng_scene* scene = NULL;
+  dng_material material;
+  dng_particles one;
+  uint32_t a = 99, b = 99;
+
+  CHECK(dng_scene_body_count(NULL) == 0);
+  CHECK(dng_scene_create(&scene) == DNG_OK);
+  CHECK(dng_scene_body_count(scene) == 0);
+  dng_material_default(&material);
+  material.collision_distance = 0.2f;
+  CHECK(dng_scene_add_body(scene, box, &material, &a, NULL, 0) == DNG_OK);
+  CHECK(dng_scene_add_body(scene, box, &material, &b, NULL, 0) == DNG_OK);
+  CHECK(a == 0 && b == 1 && dng_scene_body_count(scene) == 2);
+  CHECK(dng_scene_set_transform(scene, a, left, NULL, 0) == DNG_OK);
+  CHECK(dng_scene_set_transform(scene, b, right, NULL, 0) == DNG_OK);
+  CHECK(dng_scene_body_bounds(scene, b, lo, hi) == DNG_OK);
+  CHECK(lo[0] == 18.0f && hi[0] == 42.0f && lo[1] == -12.0f && hi[2] == 12.0f);
+  CHECK(dng_scene_body_bounds(scene, 2, lo, hi) == DNG_INVALID_ARGUMENT);
+  CHECK(lo[0] == 18.0f); /* untouched on failure */
+  CHECK(dng_scene_body_enabled(scene, a) == 1 && dng_scene_body_enabled(scene, 5) == -1);
+
+  /* A particle half a unit outside the right box's +x face, moving in. */
+  memset(&one, 0, sizeof one);
+  one.position_x = &px, one.position_y = &py, one.position_z = &pz;
+  one.velocity_x = &vx, one.velocity_y = &vy, one.velocity_z = &vz;
+  one.position_stride = one.velocity_stride = sizeof(float);
+  one.count = 1;
+  one.out_contact = &contact;
+  one.out_body = &touched;
+  /* Disable the left box: the right one is now the only packed body, yet out_body names index 1. */
+  CHECK(dng_scene_set_body_enabled(scene, a, 0) == DNG_OK);
+  CHECK(dng_scene_body_enabled(scene, a) == 0);
+  CHECK(dng_scene_step(scene, &one, 1.0f / 60.0f, NULL, 0) == DNG_OK);
+  CHECK(contact == 1 && touched == 1 && vx > 0.0f);
+
+  /* Disabled, the right box lets the particle through untouched. */
+  CHECK(dng_scene_set_body_enabled(scene, b, 0) == DNG_OK);
+  px = 30.0f + 6.25f + 0.5f, vx = -20.0f;
+  CHECK(dng_scene_step(scene, &one, 1.0f / 60.0f, NULL, 0) == DNG_OK);
+  CHECK(contact == 0 && touched == -1 && vx == -20.0f);
+
+  /* Remove the left box: the right one (last) takes index 0 and keeps its place and its state. */
+  CHECK(dng_scene_remove_body(scene, a) == DNG_OK);
+  CHECK(dng_scene_body_count(scene) == 1);
+  CHECK(dng_scene_body_enabled(scene, 0) == 0);
+  CHECK(dng_scene_body_bounds(scene, 0, lo, hi) == DNG_OK && lo[0] == 18.0f);
+  CHECK(dng_scene_set_body_enabled(scene, 0, 1) == DNG_OK);
+  px = 30.0f + 6.25f + 0.5f, vx = -20.0f;
+  CHECK(dng_scene_step(scene, &one, 1.0f / 60.0f, NULL, 0) == DNG_OK);
+  CHECK(contact == 1 && touched == 0 && vx > 0.0f);
+  CHECK(dng_scene_remove_body(scene, 1) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_remove_body(scene, 0) == DNG_OK && dng_scene_body_count(scene) == 0);
+  CHECK(dng_scene_remove_body(NULL, 0) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_set_body_enabled(scene, 0, 1) == DNG_INVALID_ARGUMENT);
+  dng_scene_destroy(scene);
+}
+
 int main(void) {
   char message[256];
   dng_field* box = NULL;
@@ -120,7 +269,10 @@ int main(void) {
     return 1;
   }
   test_sampling(box);
+  test_info(box);
+  test_batch(box);
   test_stepping(box);
+  test_scene_queries(box);
   dng_field_close(box);
   printf("c_api_test: %d passed, %d failed\n", checks - failures, failures);
   return failures == 0 ? 0 : 1;

@@ -1,9 +1,10 @@
-// dngbake: bake a mesh into a .dng distance/normal grid. Thin over the baker library: parse options,
-// run bake(), report. Exit codes: exit_codes.h (docs/BAKING.md).
+// dngbake: bake meshes and scenes into a .dng distance/normal grid. Thin over the baker library: parse
+// options, run bake(), report. Exit codes: exit_codes.h (docs/BAKING.md).
 #include "dng/baker/bake.h"
 
 #include "command_line.h"
 #include "exit_codes.h"
+#include "import_options.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -37,7 +38,7 @@ extern "C" void onSignal(int sig) {
 }
 
 struct CommandLine {
-  std::string input;
+  BakeInputs inputs;
   std::string output;
   std::string export_vdb;
   BakeOptions bake;
@@ -67,7 +68,7 @@ bool wantProgress(const CommandLine& cl) {
 }
 
 void addOptions(CLI::App& app, CommandLine& cl) {
-  app.add_option("input", cl.input, "mesh file (.obj .off .ply .stl .om)")->required();
+  dng::tools::addImportOptions(app, cl.inputs);
   app.add_option("-o,--output", cl.output, "the .dng file to write")->required();
   const std::map<std::string, NormalMode> modes{
       {"normal-blur", NormalMode::kNormalBlur}, {"potential", NormalMode::kPotential}, {"exact", NormalMode::kExact}};
@@ -125,7 +126,9 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
   nlohmann::ordered_json j;
   j["format"] = "dngbake-report";
   j["version"] = 1;
-  j["input"] = cl.input;
+  j["input"] = cl.inputs.paths.empty() ? "" : cl.inputs.paths.front();
+  j["inputs"] = dng::tools::importReportJson(r.inputs);
+  j["units"] = lengthUnitName(r.units);
   j["output"] = cl.output;
   j["ok"] = status.ok();
   if (!status.ok()) j["error"] = {{"exit_code", exitCodeFor(status.code)}, {"message", failureMessage(cl, status)}};
@@ -173,9 +176,12 @@ void printSummary(const CommandLine& cl, const BakeReport& r) {
   double total = 0.0;
   for (const auto& stage : r.stage_seconds)
     total += stage.second;
+  const std::string input =
+      cl.inputs.paths.front() +
+      (cl.inputs.paths.size() > 1 ? " (+" + std::to_string(cl.inputs.paths.size() - 1) + ")" : "");
   std::fprintf(stderr, "dngbake: %s -> %s: %llu triangles, %u x %u x %u voxels of %g, %llu bytes, %.2f s\n",
-               cl.input.c_str(), cl.output.c_str(), (unsigned long long)r.mesh.triangles, r.grid.dims[0],
-               r.grid.dims[1], r.grid.dims[2], double(r.grid.voxel_size), (unsigned long long)r.output_bytes, total);
+               input.c_str(), cl.output.c_str(), (unsigned long long)r.mesh.triangles, r.grid.dims[0], r.grid.dims[1],
+               r.grid.dims[2], double(r.grid.voxel_size), (unsigned long long)r.output_bytes, total);
 }
 
 } // namespace
@@ -189,7 +195,7 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   Progress progress{wantProgress(cl)};
   BakeReport report;
-  const BakeStatus status = bake(cl.input, {cl.output, cl.export_vdb}, cl.bake, &Progress::update, &progress, &report);
+  const BakeStatus status = bake(cl.inputs, {cl.output, cl.export_vdb}, cl.bake, &Progress::update, &progress, &report);
   progress.finish();
   if (cl.json) {
     const auto json = reportJson(cl, report, status); // paths are bytes, not always UTF-8: never throw

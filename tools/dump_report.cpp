@@ -27,6 +27,30 @@ std::uint64_t bandVoxels(const View& view) {
   return count;
 }
 
+std::string describeUnits(const Json& meta) {
+  std::string line = meta["units"].value("field", "unknown");
+  const Json files = meta.contains("source") ? meta["source"].value("files", Json::array()) : Json::array();
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const Json& f = files[i];
+    char scale[32];
+    std::snprintf(scale, sizeof scale, "%g", f.value("scale", 1.0));
+    line += std::string(i == 0 ? " (from " : "; ") + f.value("format", "?") + " in " + f.value("units", "unknown") +
+            ", scale " + scale;
+  }
+  return files.empty() ? line : line + ")";
+}
+
+// "m (from glb in m, scale 1)": the field's unit and how each source file got there, from the META
+// section dngbake writes. Empty when the file does not record units (older bakes, other writers).
+std::string unitsLine(const Json& meta) {
+  if (!meta.is_object() || !meta.contains("units") || !meta["units"].is_object()) return "";
+  try { // the metadata is the file's: a field of the wrong type must not end dngdump
+    return describeUnits(meta);
+  } catch (const nlohmann::json::exception&) {
+    return "";
+  }
+}
+
 Json reportJson(const std::string& path, const View& view) {
   const GridInfo& g = view.grid();
   const double voxels = double(g.dims[0]) * g.dims[1] * g.dims[2];
@@ -54,6 +78,7 @@ Json reportJson(const std::string& path, const View& view) {
   j["bytes_per_voxel"] = double(view.sizeBytes()) / voxels;
   j["bytes_per_band_voxel"] = band > 0 ? double(view.sizeBytes()) / double(band) : 0.0;
   j["metadata"] = metadataJson(view.metadata());
+  if (const std::string units = unitsLine(j["metadata"]); !units.empty()) j["units"] = units;
   return j;
 }
 
@@ -88,6 +113,7 @@ void printSummary(std::FILE* out, const std::string& path, const View& view) {
   std::fprintf(out, "  size       %zu bytes: %.3g per voxel, %.3g per band voxel (%llu voxels in band)\n",
                view.sizeBytes(), j["bytes_per_voxel"].get<double>(), j["bytes_per_band_voxel"].get<double>(),
                (unsigned long long)j["voxels_in_band"].get<std::uint64_t>());
+  if (j.contains("units")) std::fprintf(out, "  units      %s\n", j["units"].get<std::string>().c_str());
   const Json& meta = j["metadata"];
   if (meta.is_null()) {
     std::fprintf(out, "  metadata   none\n");

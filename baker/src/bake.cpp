@@ -44,10 +44,33 @@ BakeStatus hashFile(const std::string& path, std::string* out_hex) {
   return BakeStatus::success();
 }
 
+// Which files went in: the first file's hash as before, then every file with its format, units,
+// scale and (for scene files) the nodes taken. Names, not paths: paths differ between machines.
+nlohmann::ordered_json sourceJson(const BakeReport& report) {
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (const ImportReport& input : report.inputs) {
+    nlohmann::ordered_json file = {{"format", input.format},
+                                   {"xxh64", input.source_hash},
+                                   {"units", lengthUnitName(input.units)},
+                                   {"scale", input.scale},
+                                   {"triangles", input.triangles}};
+    if (!input.nodes.empty()) {
+      nlohmann::ordered_json nodes = nlohmann::ordered_json::array();
+      for (const NodeImport& node : input.nodes)
+        nodes.push_back(node.name);
+      file["nodes"] = nodes;
+    }
+    files.push_back(file);
+  }
+  return {{"xxh64", report.source_hash}, {"files", files}};
+}
+
+nlohmann::ordered_json unitsJson(const BakeReport& report) { return {{"field", lengthUnitName(report.units)}}; }
+
 // The META section: the tool, the mode, every parameter and the source, as UTF-8 JSON. No clock and
 // no path: the same mesh and options must give the same bytes wherever and whenever they are baked.
-std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, const std::string& source_hash,
-                         const std::string& sign) {
+std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, const BakeReport& report) {
+  const std::string& sign = report.sign;
   nlohmann::ordered_json meta;
   meta["tool"] = "dngbake";
   meta["tool_version"] = DNG_TOOL_VERSION;
@@ -65,8 +88,26 @@ std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, co
                         {"tolerance_voxels", o.brick.tolerance_distance},
                         {"tolerance_degrees", o.brick.tolerance_normal_deg}};
   meta["conservative_planes"] = (g.flags & format::kGridFlagConservativePlanes) != 0;
-  meta["source"] = {{"xxh64", source_hash}};
+  meta["source"] = sourceJson(report);
+  meta["units"] = unitsJson(report);
   return meta.dump();
+}
+
+// The inputs through their importers (import.h), each file hashed; the soup is in field units.
+BakeStatus loadInputs(const BakeInputs& inputs, TriangleSoup* out_soup, BakeReport* report) {
+  BakeStatus status =
+      importInputs(inputs.paths, inputs.import, inputs.units, out_soup, &report->inputs, &report->warnings);
+  for (const ImportReport& input : report->inputs) { // also on failure: the reader may say why
+    for (const std::string& m : input.messages)
+      report->warnings.push_back(inputs.paths.size() > 1 ? "'" + input.path + "': " + m : m);
+  }
+  if (!status.ok()) return status;
+  for (ImportReport& input : report->inputs) {
+    if (!(status = hashFile(input.path, &input.source_hash)).ok()) return status;
+  }
+  report->source_hash = report->inputs.front().source_hash;
+  report->units = fieldUnit(inputs.units, report->inputs);
+  return BakeStatus::success();
 }
 
 class StageTimer {
@@ -98,21 +139,15 @@ struct StageProgress {
   }
 };
 
-BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options,
+BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, const BakeOptions& options,
                       ProgressFn progress, void* user, BakeReport* report) {
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
   StageTimer timer(report);
   TriangleSoup soup;
-  BakeStatus status = loadMesh(input, &soup);
+  BakeStatus status = loadInputs(inputs, &soup, report);
   if (!status.ok()) return status;
-  for (const std::string& m : soup.reader_messages)
-    report->warnings.push_back("reader: " + m);
-  if (soup.faces_with_bad_index > 0)
-    report->warnings.push_back(std::to_string(soup.faces_with_bad_index) +
-                               " faces referred to missing vertices and were skipped");
-  if (!(status = hashFile(input, &report->source_hash)).ok()) return status;
   timer.done("load");
   if (!reportStage(progress, user, "load")) return BakeStatus::cancelled();
 
@@ -146,7 +181,7 @@ BakeStatus bakeStages(const std::string& input, const BakeOutputs& outputs, cons
   report->grid.flags = band.grid().flags;
   timer.done("conservative");
 
-  const std::string meta = metadataJson(options, report->grid, report->source_hash, report->sign);
+  const std::string meta = metadataJson(options, report->grid, *report);
   StageProgress encode_progress{progress, user, "encode"};
   format::EncodeHooks hooks;
   hooks.progress = {&StageProgress::report, &encode_progress};
@@ -184,10 +219,17 @@ std::uint64_t peakMemoryBytes() {
 // an OpenVDB or TBB error) leaves no output behind; it only has to become a status instead of an abort.
 BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
                 void* user, BakeReport* report) {
+  BakeInputs inputs;
+  inputs.paths = {input};
+  return bake(inputs, outputs, options, progress, user, report);
+}
+
+BakeStatus bake(const BakeInputs& inputs, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
+                void* user, BakeReport* report) {
   // Every option first: a bad value must cost nothing and be reported as the usage error it is.
   if (BakeStatus checked = checkBakeOptions(options); !checked.ok()) return checked;
   try {
-    const BakeStatus status = bakeStages(input, outputs, options, progress, user, report);
+    const BakeStatus status = bakeStages(inputs, outputs, options, progress, user, report);
     report->peak_memory_bytes = peakMemoryBytes();
     return status;
   } catch (const std::bad_alloc&) {

@@ -1,6 +1,7 @@
 // Internal to the baker: its stages, declared in one place (docs/DESIGN.md §5); the public
 // API is dng/baker/bake.h. Each stage lives in its own .cpp:
 //   load_mesh.cpp   OpenMesh parsing into a triangle soup
+//   import_*.cpp    one importer per family of formats behind one interface (import.h)
 //   reader_guards.cpp   checks for inputs OpenMesh's readers mishandle, run before them
 //   check_mesh.cpp  mesh diagnostics and the "can this be baked" decision
 //   closest_point.cpp   Embree closest-point queries

@@ -2,8 +2,8 @@
  *
  * Plain C89-compatible declarations: opaque handles, fixed-width integers and size_t only, a status
  * code on every call that can fail plus an optional message buffer the caller supplies. Nothing here
- * throws, aborts or allocates except the create/open calls. Thread safety: a dng_field may be sampled
- * from any number of threads; a dng_scene must not be changed while it is being stepped.
+ * throws, aborts or allocates except the create/open calls and dng_scene_add_body. Thread safety: a dng_field may be
+ * sampled from any number of threads; a dng_scene must not be changed while it is being stepped.
  *
  * Check at start-up that the library matches the header you compiled against:
  *   if (!dng_version_compatible(DNG_VERSION)) { ... }
@@ -69,6 +69,11 @@ DNG_API uint32_t dng_version(void);
 /** 1 when a program built against header version `header_version` (pass DNG_VERSION) can use this
  *  library: same major version, and the library's minor version is at least the header's. Else 0. */
 DNG_API int32_t dng_version_compatible(uint32_t header_version);
+/** The library's version as text, "major.minor.patch" (DNG_VERSION_STRING of the library, which may
+ *  differ from the header's). Static storage; never NULL. Thread-safe. */
+DNG_API const char* dng_version_string(void);
+/** The newest .dng format version this library reads, "major.minor". Static; never NULL. Thread-safe. */
+DNG_API const char* dng_format_version_string(void);
 
 /* ---- Fields ---- */
 typedef struct dng_field dng_field;
@@ -102,6 +107,42 @@ DNG_API dng_status dng_field_verify(const dng_field* field, char* out_message, s
 DNG_API void dng_field_close(dng_field* field);
 /** The field at a grid-local point. A NULL field answers DNG_SAMPLE_NO_FIELD. */
 DNG_API dng_sample dng_field_sample(const dng_field* field, float x, float y, float z, uint32_t interpolation);
+
+/** Samples `count` points: point n is three floats at byte offset n * point_stride from `points`
+ *  (stride >= 12), its answer is written at byte offset n * sample_stride from `out_samples` (stride >=
+ *  sizeof(dng_sample); both strides multiples of 4). Rejects a NULL field or pointer (when count > 0)
+ *  and short or unaligned strides with DNG_INVALID_ARGUMENT before writing anything. Thread-safe, no
+ *  allocation. */
+DNG_API dng_status dng_field_sample_batch(const dng_field* field, const float* points, size_t point_stride,
+                                          size_t count, dng_sample* out_samples, size_t sample_stride,
+                                          uint32_t interpolation);
+
+#define DNG_ENCODING_DENSE 0
+#define DNG_ENCODING_BRICKED 1
+
+/** What a field holds. Lengths are in the grid's local units (the units the mesh was baked in). */
+typedef struct dng_field_info {
+  float bounds_min[3];          /* the grid's minimum corner (its origin) */
+  float bounds_max[3];          /* bounds_min + dims * voxel_size */
+  float voxel_size;             /* voxel edge */
+  uint32_t dims[3];             /* voxels per axis */
+  float band;                   /* distances are stored for |d| < band */
+  float guaranteed_reach;       /* band - sqrt(3)/2 voxel_size: nearer points always answer in band */
+  uint32_t encoding;            /* DNG_ENCODING_* */
+  uint32_t brick_size;          /* bricked: brick edge in voxels; 0 for dense */
+  uint32_t format_version[2];   /* the file's .dng version: major, minor */
+  uint32_t conservative_planes; /* 1 when no voxel plane overestimates the distance (format 1.1 bakes):
+                                   what dng_scene_step's walk needs to stop every particle */
+  uint64_t file_bytes;          /* size of the file or memory block */
+} dng_field_info;
+
+/** Fills *out_info. DNG_INVALID_ARGUMENT (nothing written) when either is NULL. Thread-safe. */
+DNG_API dng_status dng_field_get_info(const dng_field* field, dng_field_info* out_info);
+/** Copies the bake's metadata (UTF-8 JSON, docs/BAKING.md) into out_text, truncated to capacity - 1
+ *  bytes and NUL-terminated when capacity > 0; out_text may be NULL when capacity is 0. Returns the
+ *  metadata's full length in bytes without the NUL (0 when the file has none or field is NULL), so a
+ *  first call with capacity 0 sizes the buffer. Thread-safe. */
+DNG_API size_t dng_field_metadata(const dng_field* field, char* out_text, size_t capacity);
 
 /* ---- Materials, scenes of bodies, stepping ---- */
 #define DNG_RESPONSE_IMPACT 0
@@ -142,6 +183,20 @@ DNG_API dng_status dng_scene_set_velocity(dng_scene* scene, uint32_t body, const
 DNG_API dng_status dng_scene_set_material(dng_scene* scene, uint32_t body, const dng_material* material,
                                           char* out_message, size_t message_capacity);
 
+/** Number of bodies in the scene (enabled or not); 0 for NULL. Body indices run from 0 to count - 1. */
+DNG_API uint32_t dng_scene_body_count(const dng_scene* scene);
+/** Removes a body. The last body takes its index (indices stay 0..count-1); every other index is
+ *  unchanged. DNG_INVALID_ARGUMENT for a NULL scene or an index out of range. No allocation. */
+DNG_API dng_status dng_scene_remove_body(dng_scene* scene, uint32_t body);
+/** A disabled body keeps its index, transform, velocity and material but is skipped by dng_scene_step.
+ *  Bodies start enabled. DNG_INVALID_ARGUMENT for a NULL scene or an index out of range. */
+DNG_API dng_status dng_scene_set_body_enabled(dng_scene* scene, uint32_t body, int32_t enabled);
+/** 1 when the body is enabled, 0 when disabled, -1 for a NULL scene or an index out of range. */
+DNG_API int32_t dng_scene_body_enabled(const dng_scene* scene, uint32_t body);
+/** The body's world-space axis-aligned bounding box (its grid under its transform). On failure (NULL
+ *  argument, index out of range: DNG_INVALID_ARGUMENT) nothing is written. */
+DNG_API dng_status dng_scene_body_bounds(const dng_scene* scene, uint32_t body, float out_min[3], float out_max[3]);
+
 /** Mirrors dng::ParticleSpan: strides in bytes; out_contact and out_body may be NULL. */
 typedef struct dng_particles {
   float* position_x;
@@ -157,7 +212,8 @@ typedef struct dng_particles {
   int32_t* out_body;
 } dng_particles;
 
-/** One step of dt seconds for every particle against every body of the scene (dng::stepParticles). */
+/** One step of dt seconds for every particle against every enabled body of the scene
+ *  (dng::stepParticles). out_body receives scene body indices. */
 DNG_API dng_status dng_scene_step(const dng_scene* scene, const dng_particles* particles, float dt, char* out_message,
                                   size_t message_capacity);
 

@@ -3,6 +3,7 @@
 // The stages behind it are internal (baker/src/stages.h); docs/DESIGN.md explains them.
 #pragma once
 
+#include "dng/baker/import.h"
 #include "dng/format/vec3.h"
 #include "dng/format/writer.h"
 
@@ -103,8 +104,17 @@ struct BakeReport {
   std::string source_hash; ///< XXH64 of the input file, hex
   std::string sign;        ///< the sign method used: "winding" or "pseudonormal"
   std::vector<std::pair<std::string, double>> stage_seconds;
-  std::uint64_t band_blocks = 0;       ///< 8^3 leaves of the working store holding band voxels
-  std::uint64_t peak_memory_bytes = 0; ///< the process's peak resident memory when the bake ended
+  std::uint64_t band_blocks = 0;           ///< 8^3 leaves of the working store holding band voxels
+  std::uint64_t peak_memory_bytes = 0;     ///< the process's peak resident memory when the bake ended
+  std::vector<ImportReport> inputs;        ///< one per input file, in order
+  LengthUnit units = LengthUnit::kUnknown; ///< the field's length unit
+};
+
+/// The files to bake into one field (their union) and how to read them (dng/baker/import.h).
+struct BakeInputs {
+  std::vector<std::string> paths;
+  ImportOptions import;
+  UnitOptions units;
 };
 
 /// Where the outputs go: the .dng (required) and, when not empty, an OpenVDB export of the band.
@@ -119,6 +129,9 @@ struct BakeOutputs {
 /// kCancelled always means nothing was written. Never throws.
 BakeStatus bake(const std::string& input_path, const BakeOutputs& outputs, const BakeOptions& options,
                 ProgressFn progress, void* progress_user, BakeReport* out_report);
+/// The same over several inputs, scene selection and units.
+BakeStatus bake(const BakeInputs& inputs, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
+                void* progress_user, BakeReport* out_report);
 
 } // namespace baker
 } // namespace dng
