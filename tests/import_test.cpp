@@ -2,10 +2,10 @@
 // scales, a mesh instanced twice, a primitive of lines and a binary .glb bake to the same field as the
 // same triangles written as OFF with the transforms applied by independent code; --node, --scene,
 // several inputs, units, an assimp format, and every kind of bad input with its exit code.
-#include "stages.h"
 #include "dng/file.h"
 #include "gltf_files.h"
 #include "run_program.h"
+#include "stages.h"
 #include "temp_dir.h"
 #include "test_meshes.h"
 

@@ -146,7 +146,7 @@ BakeStatus importAssimpInProcess(const std::string& path, const ImportOptions& o
   if (!std::filesystem::is_regular_file(path, error)) return BakeStatus::failure(BakeError::kIo, "no such file");
   if (options.scene > 0)
     return BakeStatus::failure(BakeError::kBadOption, "--scene " + std::to_string(options.scene) +
-                                                     ": assimp files have one scene (--scene 0)");
+                                                          ": assimp files have one scene (--scene 0)");
   Assimp::Importer importer;
   const aiScene* scene = nullptr;
   try { // assimp reports failures through GetErrorString, but some of its readers throw past it

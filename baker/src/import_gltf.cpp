@@ -1,8 +1,8 @@
 // glTF 2.0 (.gltf with external or embedded buffers, .glb) through Debian's tinygltf: the chosen scene's
 // mesh nodes with their transforms composed, every triangle primitive (lists, strips, fans; indexed or
 // not), other modes reported and skipped. glTF lengths are metres.
-#include "gltf_accessor.h"
 #include "dng/baker/import.h"
+#include "gltf_accessor.h"
 
 #include <tiny_gltf.h>
 
@@ -212,7 +212,7 @@ private:
   BakeStatus addMesh(int node_index, const tinygltf::Node& node, const Matrix& world) {
     if (std::size_t(node.mesh) >= model_.meshes.size())
       return BakeStatus::failure(BakeError::kInvalidInput, "node " + std::to_string(node_index) + " refers to mesh " +
-                                                              std::to_string(node.mesh) + ", which does not exist");
+                                                               std::to_string(node.mesh) + ", which does not exist");
     const tinygltf::Mesh& mesh = model_.meshes[std::size_t(node.mesh)];
     NodeImport entry;
     entry.name = nameOr(node.name, "#", node_index);
@@ -277,7 +277,7 @@ BakeStatus chooseScene(const tinygltf::Model& model, const ImportOptions& option
   if (model.scenes.empty()) return BakeStatus::failure(BakeError::kInvalidInput, "the file has no scene");
   if (options.scene >= 0 && std::size_t(options.scene) >= model.scenes.size())
     return BakeStatus::failure(BakeError::kBadOption, "--scene " + std::to_string(options.scene) + ": the file has " +
-                                                     std::to_string(model.scenes.size()) + " scenes");
+                                                          std::to_string(model.scenes.size()) + " scenes");
   *out_scene = options.scene >= 0                                                                 ? options.scene
                : model.defaultScene >= 0 && std::size_t(model.defaultScene) < model.scenes.size() ? model.defaultScene
                                                                                                   : 0;

@@ -50,8 +50,8 @@ BakeStatus importOne(const std::string& path, const ImportOptions& options, Tria
   const ImportFn importer = importerFor(path);
   if (importer == nullptr)
     return BakeStatus::failure(BakeError::kUnsupported, "'" + path + "': unknown mesh format '." + out_report->format +
-                                                           "' (use .gltf, .glb, .obj, .off, .ply, .stl, .om or "
-                                                           "a format assimp reads: .fbx, .dae, .3ds, .blend, ...)");
+                                                            "' (use .gltf, .glb, .obj, .off, .ply, .stl, .om or "
+                                                            "a format assimp reads: .fbx, .dae, .3ds, .blend, ...)");
   const std::size_t first_vertex = io_soup->vertices.size();
   const BakeStatus status = importer(path, options, io_soup, out_report);
   out_report->vertices = io_soup->vertices.size() - first_vertex;
@@ -126,7 +126,8 @@ BakeStatus importInputs(const std::vector<std::string>& paths, const ImportOptio
     const bool found = std::any_of(out_reports->begin(), out_reports->end(), [&](const ImportReport& r) {
       return std::find(r.matched_nodes.begin(), r.matched_nodes.end(), name) != r.matched_nodes.end();
     });
-    if (!found) return BakeStatus::failure(BakeError::kBadOption, "--node '" + name + "': no input has a node of that name");
+    if (!found)
+      return BakeStatus::failure(BakeError::kBadOption, "--node '" + name + "': no input has a node of that name");
   }
   if (!options.nodes.empty() && out_soup->triangles.empty())
     return BakeStatus::failure(BakeError::kInvalidInput, "the selected nodes hold no triangles");

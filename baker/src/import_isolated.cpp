@@ -184,7 +184,7 @@ BakeStatus importIsolated(ImportFn importer, const std::string& path, const Impo
   }
   if (WIFSIGNALED(wait_status))
     return BakeStatus::failure(BakeError::kInvalidInput, std::string(io_report->importer) + " crashed reading it (" +
-                                                            ::strsignal(WTERMSIG(wait_status)) + ")");
+                                                             ::strsignal(WTERMSIG(wait_status)) + ")");
   BakeStatus status;
   TriangleSoup soup;
   ImportReport report = *io_report;

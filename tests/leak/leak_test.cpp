@@ -249,6 +249,15 @@ TEST_F(LeakCase, BladePotentialIsNeverPassed) {
   expectNoVisibleLeak(run(*s, {"static impact"}));
 }
 
+// Exact normals on an open thin tube, spinning: where the full table last found a pass (docs/LEAKS.md).
+TEST_F(LeakCase, BladeExactSpinningIsNeverPassed) {
+  const Subject* s = subject("blade", baker::NormalMode::kExact);
+  ASSERT_NE(s, nullptr);
+  CaseSpec spec{"spinning impact"};
+  spec.motion = Motion::kSpinning;
+  expectNoVisibleLeak(run(*s, spec));
+}
+
 TEST_F(LeakCase, ConcaveNotchStatic) {
   const Subject* s = subject("notch", baker::NormalMode::kNormalBlur);
   ASSERT_NE(s, nullptr);
