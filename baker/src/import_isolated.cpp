@@ -67,7 +67,7 @@ public:
     std::uint64_t n = 0;
     if (!pod(&n) || (bytes_.size() - at_) / sizeof(T) < n) return false;
     out->resize(std::size_t(n));
-    std::memcpy(out->data(), bytes_.data() + at_, std::size_t(n) * sizeof(T));
+    if (n > 0) std::memcpy(out->data(), bytes_.data() + at_, std::size_t(n) * sizeof(T)); // data() may be null
     at_ += std::size_t(n) * sizeof(T);
     return true;
   }
