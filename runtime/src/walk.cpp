@@ -131,6 +131,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   // Any: by a neighbour's bound as well, the fallback.
   float proof_own = t > 0.0f ? t : -1.0f; // entering from outside the grid is entering from beyond the band
   float proof = proof_own;
+  const auto last_proof = [&] { return std::max(proof_own >= 0.0f ? proof_own : proof, 0.0f); };
   for (int n = 0; n < max_samples; ++n) {
     if (t >= t_end) return {};
     const Vec3f p = a + d * t;
@@ -148,7 +149,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       if (provable(field, reach, proof_level, end, field.sample(end))) return {};
       // Clear, but the next step could not prove the end outside again (beside an edge the planes
       // cannot resolve): turn back from the last point it can.
-      return stopAt(WalkStop::kReverse, std::max(proof_own >= 0.0f ? proof_own : proof, 0.0f), back);
+      return stopAt(WalkStop::kReverse, last_proof(), back);
     }
     if (s.status == SampleStatus::kFarOutside) {
       t += clear / len;
@@ -161,8 +162,8 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       if (hit < exit && hit < t_end) return stopAt(WalkStop::kPlane, hit, s.normal);
     }
     if (clear >= 0.0f || (rate >= 0.0f && q >= proof_level && s.status == SampleStatus::kInBand)) {
-      // Clear to the cell's wall: the plane stays above the margin, or rises from a value >= 0, so the
-      // plane proves every point up to the wall; the ball may reach further.
+      // Clear to the cell's wall: the plane stays above the margin, or rises from a proving value, so
+      // it proves every point up to the wall; the ball may reach further.
       proof = proof_own = std::min(exit - nudge, t_end);
       if (exit >= t_end) return {};
       t = std::max(exit + nudge, t + clear / len);
@@ -190,12 +191,10 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
     }
     // A plane that reads >= 0 here and falls along the motion is what blocks: bounce off it. Below
     // zero the plane may be a loose one (the face beside an edge), and its normal no guide: go back.
-    const float stop = proof_own >= 0.0f ? proof_own : proof;
-    return rate < 0.0f && q >= proof_level ? stopAt(WalkStop::kPlane, stop, s.normal)
-                                           : stopAt(WalkStop::kReverse, stop, back);
+    return rate < 0.0f && q >= proof_level ? stopAt(WalkStop::kPlane, last_proof(), s.normal)
+                                           : stopAt(WalkStop::kReverse, last_proof(), back);
   }
-  return t >= t_end ? WalkResult{}
-                    : stopAt(WalkStop::kStall, std::max(proof_own >= 0.0f ? proof_own : proof, 0.0f), back);
+  return t >= t_end ? WalkResult{} : stopAt(WalkStop::kStall, last_proof(), back);
 }
 
 } // namespace dng
