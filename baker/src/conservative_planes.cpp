@@ -12,15 +12,11 @@
 //     (n - grad D) . (p - c) <= |n - grad D|_1 h / 2, which is zero for exact normals; grad D comes
 //     from the one-sided differences to the six face neighbours, the worse side per axis.
 // The plane is lowered by the larger bound plus a small allowance, never raised.
+#include "parallel_blocks.h"
 #include "stages.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
 
 namespace dng {
 namespace baker {
@@ -149,23 +145,13 @@ BakeStatus makePlanesConservative(bool exact_normals, ProgressFn progress, void*
   const format::GridGeometry& g = io->grid();
   const std::vector<VoxelBlock> blocks = io->blocks();
   std::vector<float> lowered(blocks.size() * VoxelBlock::kVoxels, 0.0f);
-  std::atomic<std::size_t> blocks_done{0};
-  std::atomic<bool> cancelled{false};
-  std::mutex reporting; // one callback at a time, from whichever worker gets it
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      Neighbourhood hood;
-                      for (std::size_t b = r.begin(); b != r.end() && !cancelled.load(); ++b) {
-                        readNeighbourhood(*io, blocks[b], &hood);
-                        lowerBlock(hood, g, exact_normals, &lowered[b * VoxelBlock::kVoxels]);
-                        const double fraction = double(++blocks_done) / double(blocks.size());
-                        if (progress != nullptr && reporting.try_lock()) {
-                          if (!progress(progress_user, "conservative", fraction)) cancelled = true;
-                          reporting.unlock();
-                        }
-                      }
-                    });
-  if (cancelled) return BakeStatus::cancelled();
+  const bool finished =
+      forEachBlockInParallel(blocks.size(), "conservative", progress, progress_user, [&](std::size_t b) {
+        Neighbourhood hood; // readNeighbourhood fills all of it
+        readNeighbourhood(*io, blocks[b], &hood);
+        lowerBlock(hood, g, exact_normals, &lowered[b * VoxelBlock::kVoxels]);
+      });
+  if (!finished) return BakeStatus::cancelled();
   // Applied after every block has read its neighbours' original distances.
   // Inside, a lowered value only has to stay negative (a plane proves nothing where it reads below
   // zero), so it stops short of -band: the voxel stays in the band, as the .vdb export has it.

@@ -8,6 +8,7 @@
 // 3. BandGrid::finishBand drops blocks with no band voxel and signs everything else by flood fill,
 //    so the winding number is evaluated only near the surface.
 // Each voxel is a pure function of the mesh, so the result does not depend on how TBB splits the work.
+#include "parallel_blocks.h"
 #include "stages.h"
 #include "triangle_box.h"
 
@@ -16,9 +17,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
 
 namespace dng {
 namespace baker {
@@ -119,21 +118,10 @@ BakeStatus computeDistanceField(const TriangleSoup& soup, const PseudonormalSign
 
   out->addBlocks(bandBlocks(soup, out->grid()));
   const std::vector<VoxelBlock> blocks = out->blocks();
-  std::atomic<std::size_t> blocks_done{0};
-  std::atomic<bool> cancelled{false};
-  std::mutex reporting; // one callback at a time, from whichever worker gets it: callbacks need no locks
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t b = r.begin(); b != r.end() && !cancelled.load(); ++b) {
-                        computeBlock(soup, index, sign, out->grid(), blocks[b]);
-                        const double fraction = double(++blocks_done) / double(blocks.size());
-                        if (progress != nullptr && reporting.try_lock()) {
-                          if (!progress(progress_user, "distance", fraction)) cancelled = true;
-                          reporting.unlock();
-                        }
-                      }
-                    });
-  if (cancelled) return BakeStatus::cancelled();
+  const bool finished = forEachBlockInParallel(blocks.size(), "distance", progress, progress_user, [&](std::size_t b) {
+    computeBlock(soup, index, sign, out->grid(), blocks[b]);
+  });
+  if (!finished) return BakeStatus::cancelled();
   out->finishBand();
   return BakeStatus::success();
 }
