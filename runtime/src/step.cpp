@@ -9,6 +9,7 @@
 #include "diagnostic.h"
 #include "dng/particles.h"
 #include "dng/responses.h"
+#include "fast_math.h"
 #include "pose.h"
 #include "walk.h"
 
@@ -55,10 +56,6 @@ void store(const ParticleSpan& s, std::size_t n, const ParticleState& p) {
   *at(s.velocity_y, s.velocity_stride, n) = p.velocity.y;
   *at(s.velocity_z, s.velocity_stride, n) = p.velocity.z;
 }
-
-// std::fmin/fmax are libm calls without -ffast-math; these compile to single instructions.
-inline float minOf(float a, float b) { return a < b ? a : b; }
-inline float maxOf(float a, float b) { return a > b ? a : b; }
 
 bool insideBounds(const Body& b, Vec3f p) {
   const Vec3f lo = b.boundsMin(), hi = b.boundsMax();

@@ -12,6 +12,7 @@
 // memory (measured: inlining alone took dense nearest from 27 to 10 ns per query, bench/).
 #include "dng/format/codec.h"
 #include "dng/view.h"
+#include "fast_math.h"
 
 #include <cmath>
 #include <cstring>
@@ -24,10 +25,6 @@ namespace fmt = format;
 namespace {
 
 Sample noField() { return {std::numeric_limits<float>::infinity(), Vec3f{}, SampleStatus::kNoField}; }
-
-// std::fmin/fmax become libm calls without -ffast-math; these compile to single instructions.
-inline float maxOf(float a, float b) { return a > b ? a : b; }
-inline float minOf(float a, float b) { return a < b ? a : b; }
 
 } // namespace
 
