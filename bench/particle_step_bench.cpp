@@ -2,6 +2,7 @@
 // with a sphere body against the same step with no body, in one run (issue #3's goal: collision
 // overhead <= 1.3x the no-collision step; the paper's compressed grid cost 1.44x, Table 1).
 #include "dng/forces.h"
+#include "dng/instruction_set.h"
 #include "dng/particles.h"
 #include "sphere_scene.h"
 
@@ -81,7 +82,11 @@ Material materialFor(int responses) {
 
 // Arguments: encoding (0 dense, 1 bricked, 2 no body), responses (1 impact, 2 impact+drag+flow, 3 the same,
 // swept), order (0 as emitted: random, 1 sorted by voxel).
-void BM_Step(benchmark::State& state) {
+void stepBench(benchmark::State& state, InstructionSet set) {
+  if (setInstructionSet(set) != Status::kOk) {
+    state.SkipWithError("instruction set not available");
+    return;
+  }
   const auto& scene = bench::sphereScene();
   static const Swarm sorted = sortedSwarm(pristineSwarm());
   const Swarm& start = state.range(2) == 1 ? sorted : pristineSwarm();
@@ -105,7 +110,15 @@ void BM_Step(benchmark::State& state) {
                  (state.range(2) ? ", sorted" : ", random"));
   state.counters["per_particle"] = benchmark::Counter(
       double(kParticles), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  setInstructionSet(bestInstructionSet());
 }
+
+// The step as shipped: the best SIMD kernels this CPU has (dng/instruction_set.h).
+void BM_Step(benchmark::State& state) { stepBench(state, bestInstructionSet()); }
+// The same with the scalar reference path, in the same run.
+void BM_StepScalar(benchmark::State& state) { stepBench(state, InstructionSet::kScalar); }
+
+BENCHMARK(BM_StepScalar)->ArgsProduct({{0, 1}, {1, 2, 3}, {0}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Step)
     ->Args({2, 0, 0})
     ->Args({2, 0, 1})

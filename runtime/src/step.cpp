@@ -11,6 +11,7 @@
 #include "dng/responses.h"
 #include "fast_math.h"
 #include "pose.h"
+#include "step_batch.h"
 #include "walk.h"
 
 #include <cmath>
@@ -29,6 +30,8 @@ constexpr float kMarginVoxels = 0.06f;
 // any speed. A walk out of samples stops the particle early (docs/RUNTIME.md), it never crosses.
 constexpr int kWalkSamples = 24;
 constexpr int kSweptWalkSamples = 256;
+int walkSamples(const Body& body) { return body.material().swept ? kSweptWalkSamples : kWalkSamples; }
+
 // Bodies whose first sample is kept from the response for the walk; more bodies sample twice.
 constexpr std::size_t kKeptSamples = 8;
 
@@ -184,7 +187,7 @@ Stop firstStop(const Body* bodies, std::size_t body_count, const BodyMotions& mo
     const Pose& end_pose = motion.end;
     const Vec3f delta = end_pose.toLocal(end) - a;
     const float margin = kMarginVoxels * body.field()->grid().voxel_size;
-    const int samples = body.material().swept ? kSweptWalkSamples : kWalkSamples;
+    const int samples = walkSamples(body);
     Sample kept_sample;
     const bool reuse = kept != nullptr && kept->find(b, &kept_sample);
     const WalkResult walk = walkSegment(*body.field(), a, delta, reuse ? &kept_sample : nullptr, margin, samples);
@@ -249,6 +252,60 @@ Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_
   return Status::kOk;
 }
 
+// Everything one particle's step needs: the scalar path, the reference for the SIMD kernels.
+struct ScalarStep {
+  const ParticleSpan* particles;
+  float dt;
+  const Body* bodies;
+  std::size_t body_count;
+  const BodyMotions* motions;
+};
+
+void stepOne(const void* context, std::size_t n) {
+  const ScalarStep& step = *static_cast<const ScalarStep*>(context);
+  const ParticleSpan& particles = *step.particles;
+  ParticleState state = load(particles, n);
+  Touch touch;
+  KeptSamples kept;
+  for (std::size_t b = 0; b < step.body_count; ++b)
+    respondToBody(step.bodies[b], b, step.dt, &state, &touch, &kept);
+  move(step.bodies, step.body_count, *step.motions, step.dt, kept, &state, &touch);
+  store(particles, n, state);
+  if (particles.out_contact != nullptr) particles.out_contact[n] = touch.body >= 0 ? 1 : 0;
+  if (particles.out_body != nullptr) particles.out_body[n] = touch.body;
+}
+
+// The batch kernels take up to kMaxBatchBodies bodies whose fields they can index; null otherwise.
+const BatchKernels* kernelsFor(const Body* bodies, std::size_t body_count) {
+  const BatchKernels* kernels = activeBatchKernels();
+  if (kernels == nullptr || body_count > kMaxBatchBodies) return nullptr;
+  for (std::size_t b = 0; b < body_count; ++b) {
+    if (!batchIndexable(*bodies[b].field())) return nullptr;
+  }
+  return kernels;
+}
+
+// The same numbers the scalar path computes per particle, once per call.
+StepBody prepare(const Body& body, const BodyMotions& motions, std::size_t index) {
+  const View& field = *body.field();
+  BodyMotion scratch;
+  const BodyMotion& motion = motions.get(index, &scratch);
+  StepBody out;
+  out.body = &body;
+  out.dense = field.grid().encoding == format::Encoding::kDense;
+  out.collides = collides(body);
+  out.start = currentPose(body);
+  out.end = motion.end;
+  out.travel = motion.travel;
+  out.band_world = field.grid().band * body.scale();
+  out.margin = kMarginVoxels * field.grid().voxel_size;
+  out.reach = field.guaranteedReach();
+  out.roomy = walkRoomy(field);
+  out.proof_level = walkProofLevel(field);
+  out.max_samples = walkSamples(body);
+  return out;
+}
+
 } // namespace
 
 Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
@@ -266,17 +323,16 @@ Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies
     return Status::kOk;
   }
   const BodyMotions motions(bodies, body_count, dt);
-  for (std::size_t n = 0; n < particles.count; ++n) {
-    ParticleState state = load(particles, n);
-    Touch touch;
-    KeptSamples kept;
+  const ScalarStep scalar{&particles, dt, bodies, body_count, &motions};
+  if (const BatchKernels* kernels = kernelsFor(bodies, body_count)) {
+    StepBody prepared[kMaxBatchBodies];
     for (std::size_t b = 0; b < body_count; ++b)
-      respondToBody(bodies[b], b, dt, &state, &touch, &kept);
-    move(bodies, body_count, motions, dt, kept, &state, &touch);
-    store(particles, n, state);
-    if (particles.out_contact != nullptr) particles.out_contact[n] = touch.body >= 0 ? 1 : 0;
-    if (particles.out_body != nullptr) particles.out_body[n] = touch.body;
+      prepared[b] = prepare(bodies[b], motions, b);
+    kernels->step({&particles, dt, prepared, body_count, &stepOne, &scalar});
+    return Status::kOk;
   }
+  for (std::size_t n = 0; n < particles.count; ++n)
+    stepOne(&scalar, n);
   return Status::kOk;
 }
 

@@ -13,6 +13,7 @@
 #include "dng/format/codec.h"
 #include "dng/view.h"
 #include "fast_math.h"
+#include "step_batch.h"
 
 #include <cmath>
 #include <cstring>
@@ -151,6 +152,8 @@ void View::sampleBatch(const float* points, std::size_t point_stride_bytes, std:
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kDense>(p); });
   } else if (mode == Interpolation::kTrilinear) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kBricked>(p); });
+  } else if (const BatchKernels* kernels = activeBatchKernels(); kernels != nullptr && batchIndexable(*this)) {
+    kernels->sample_nearest(*this, points, stride, count, out_samples); // SIMD lanes, bit for bit the same
   } else if (dense_ != nullptr) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return nearest<fmt::Encoding::kDense>(p); });
   } else {

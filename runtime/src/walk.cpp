@@ -111,8 +111,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   const float len = length(d);
   // A far voxel's centre is beyond the band, so every point of its cell is at least this far.
   const float reach = field.guaranteedReach();
-  // A ball that leaves this much room around the end point needs no look at the end point itself.
-  const float roomy = 3.0f * g.voxel_size;
+  const float roomy = walkRoomy(field);
   // The common case first: far from the surface, the first sample's ball covers the whole step.
   if (first != nullptr && (first->status == SampleStatus::kFarOutside || first->status == SampleStatus::kInBand) &&
       std::min(first->distance, reach) - margin - len >= roomy)
@@ -123,9 +122,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   // Steps past a cell wall land in the next cell: a fraction of a voxel, far below any margin.
   const float nudge = 2e-3f * g.voxel_size / len;
   const Vec3f back = d * (-1.0f / len);
-  // A value proves a point outside from here up: the planes' promise holds to a hundredth of a voxel
-  // near the surface (FORMAT.md §5.1); farther out, where balls reach, the margin covers more.
-  const float proof_level = 0.01f * g.voxel_size;
+  const float proof_level = walkProofLevel(field);
   // The last points the field proves outside by itself, where a blocked walk stops; -1: none yet.
   // Own: by the point's own cell, so the next step can always recede along that cell's normal.
   // Any: by a neighbour's bound as well, the fallback.

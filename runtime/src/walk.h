@@ -28,6 +28,15 @@ struct WalkResult {
   Vec3f normal;   ///< local frame, unit: the blocking plane's normal (kPlane) or minus the motion (kReverse)
 };
 
+/// A ball that leaves this much room (local units) around a walk's end point needs no look at the end
+/// point itself: that far out the planes prove any point outside.
+inline float walkRoomy(const View& field) { return 3.0f * field.grid().voxel_size; }
+
+/// A field value proves a point outside from this level up: the planes' promise holds to a hundredth
+/// of a voxel near the surface (docs/FORMAT.md §5.1); farther out, where balls reach, the margin
+/// covers more.
+inline float walkProofLevel(const View& field) { return 0.01f * field.grid().voxel_size; }
+
 /// Walks the local segment a -> a + delta through `field`, keeping at least `margin` (local units)
 /// between the path and the surface as far as the field can prove it. `first`, when not null, is the
 /// field's sample at `a` (the step already took it for the particle's response). A start point the

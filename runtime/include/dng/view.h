@@ -95,7 +95,8 @@ public:
   std::string_view metadata() const { return metadata_; }
 
 private:
-  friend class ViewBuilder; // validation lives in view_open.cpp
+  friend class ViewBuilder;    // validation lives in view_open.cpp
+  friend struct ViewInternals; // the SIMD batch kernels read the decoded layout (view_internals.h)
   struct VoxelValue {
     float distance;
     Vec3f normal;

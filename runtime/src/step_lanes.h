@@ -1,0 +1,309 @@
+// Internal: stepParticles for a lane of particles at once, the common case only.
+//
+// Most particle-steps, even near a surface, are settled by the walk's first ball (walk.cpp): the
+// particle's own sample proves a ball around it clear, the ball holds the whole move, and the end
+// point proves itself outside with one more sample. Lanes do exactly that, with every operation the
+// scalar step.cpp and walk.cpp do in the same order, so a lane's result is bit for bit the scalar
+// one. A particle that needs anything more (a bounce off a plane during the move, a slide, a walk
+// through cells, a clip at the grid's edge) goes to the scalar path whole, from its original state.
+//
+// Include after sample_lanes.h.
+#pragma once
+
+#include "dng/responses.h"
+#include "sample_lanes.h"
+#include "step_batch.h"
+
+#include <cstring>
+#include <limits>
+
+namespace dng {
+namespace lanes {
+namespace DNG_LANES_NS {
+
+struct LaneParticles {
+  V3 position, velocity;
+};
+
+/// A pose's world -> local map (Pose::toLocal and Body::toLocal are the same expression).
+DNG_LANE_INLINE V3 toLocal(const Pose& pose, V3 world) {
+  const V3 d = world - splat(pose.t.x, pose.t.y, pose.t.z);
+  const float* r = pose.r;
+  const F s = splat(pose.inv_scale);
+  return V3{splat(r[0]) * d.x + splat(r[3]) * d.y + splat(r[6]) * d.z,
+            splat(r[1]) * d.x + splat(r[4]) * d.y + splat(r[7]) * d.z,
+            splat(r[2]) * d.x + splat(r[5]) * d.y + splat(r[8]) * d.z} *
+         s;
+}
+
+DNG_LANE_INLINE V3 rotateToWorld(const Pose& pose, V3 v) {
+  const float* r = pose.r;
+  return {splat(r[0]) * v.x + splat(r[1]) * v.y + splat(r[2]) * v.z,
+          splat(r[3]) * v.x + splat(r[4]) * v.y + splat(r[5]) * v.z,
+          splat(r[6]) * v.x + splat(r[7]) * v.y + splat(r[8]) * v.z};
+}
+
+template <bool kDense> DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active) {
+  return nearestLanes<kDense>(*b.body->field(), local, active);
+}
+
+DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active) {
+  return b.dense ? sampleBody<true>(b, local, active) : sampleBody<false>(b, local, active);
+}
+
+/// dng::respond (responses.h) on lanes of relative velocity, where `contact` holds. Returns the lanes
+/// where a rule acted.
+DNG_LANE_INLINE M applyMaterial(const Material& m, M contact, F d, V3 n, float band, float dt, V3* io_v) {
+  const F zero = splat(0.0f), step = splat(dt);
+  M acted = andNot(contact, contact); // none
+  if (m.response == Response::kImpact) {
+    const F vn = dot(*io_v, n);
+    const M act = contact & (vn < zero) & ~(d > splat(m.collision_distance) - vn * step);
+    *io_v = select(act, *io_v - n * (splat(1.0f + m.restitution) * vn), *io_v);
+    acted = acted | act;
+  } else if (m.response == Response::kSpring) {
+    const float reach = m.spring_distance > 0.0f ? m.spring_distance : band;
+    const M act = contact & (d < splat(reach));
+    *io_v = select(act, *io_v + n * (splat(m.spring_stiffness) * (splat(reach) - d) * step), *io_v);
+    acted = acted | act;
+  }
+  if (m.drag > 0.0f) {
+    const M act = contact & (d < splat(m.contact_distance));
+    const V3 normal_part = n * dot(*io_v, n);
+    const V3 tangential = *io_v - normal_part;
+    *io_v = select(act, normal_part + tangential * splat(1.0f / (1.0f + m.drag * dt)), *io_v);
+    acted = acted | act;
+  }
+  if (m.flow_in != 0.0f || m.flow_out != 0.0f) {
+    const V3 v = *io_v;
+    const F gamma = dot(n, v);
+    const V3 e = cross(cross(v, n), v);
+    const F e_length = length(e);
+    const M act = contact & (d < splat(m.flow_distance)) & (e_length > splat(1e-20f));
+    const F rho = select(gamma < zero, splat(m.flow_in), splat(m.flow_out));
+    *io_v = select(act, v + e * (rho * step / e_length), v);
+    acted = acted | act;
+  }
+  return acted;
+}
+
+/// What the move needs from the response samples: per body, the sample at the start point.
+struct KeptLanes {
+  LaneSample sample[kMaxBatchBodies];
+  M valid[kMaxBatchBodies];
+};
+
+// The responses of every body (step.cpp respondToBody), in body order. Fills the touched body and
+// distance, and keeps each body's sample.
+DNG_LANE_INLINE void respondLanes(const StepBatch& batch, LaneParticles* io, I* io_touch_body, KeptLanes* kept) {
+  F touch_distance = splat(std::numeric_limits<float>::infinity());
+  for (std::size_t b = 0; b < batch.body_count; ++b) {
+    const StepBody& sb = batch.bodies[b];
+    const Body& body = *sb.body;
+    const Vec3f lo = body.boundsMin(), hi = body.boundsMax();
+    const V3 p = io->position;
+    const M in = (p.x >= splat(lo.x)) & (p.y >= splat(lo.y)) & (p.z >= splat(lo.z)) & (p.x <= splat(hi.x)) &
+                 (p.y <= splat(hi.y)) & (p.z <= splat(hi.z));
+    kept->valid[b] = in;
+    if (!any(in)) continue;
+    const LaneSample s = sampleBody(sb, toLocal(sb.start, p), in);
+    kept->sample[b] = s;
+    const M contact = in & s.in_band;
+    if (!any(contact)) continue;
+    const F d = s.distance * splat(body.scale());
+    const V3 n = rotateToWorld(sb.start, s.normal);
+    const Vec3f lin = body.linearVelocity(), ang = body.angularVelocity();
+    const V3 surface = splat(lin.x, lin.y, lin.z) +
+                       cross(splat(ang.x, ang.y, ang.z), p - splat(sb.start.t.x, sb.start.t.y, sb.start.t.z));
+    V3 relative = io->velocity - surface;
+    const M acted = applyMaterial(body.material(), contact, d, n, sb.band_world, batch.dt, &relative);
+    io->velocity = select(acted, relative + surface, io->velocity);
+    const M nearer = acted & (d < touch_distance);
+    touch_distance = select(nearer, d, touch_distance);
+    *io_touch_body = select(nearer, splatI(std::int32_t(b)), *io_touch_body);
+  }
+}
+
+// step.cpp segmentNearBounds.
+DNG_LANE_INLINE M nearBounds(const StepBody& sb, V3 a, V3 e) {
+  const Vec3f lo = sb.body->boundsMin(), hi = sb.body->boundsMax();
+  const float tr = sb.travel;
+  return ~((maxOf(a.x, e.x) < splat(lo.x - tr)) | (minOf(a.x, e.x) > splat(hi.x + tr)) |
+           (maxOf(a.y, e.y) < splat(lo.y - tr)) | (minOf(a.y, e.y) > splat(hi.y + tr)) |
+           (maxOf(a.z, e.z) < splat(lo.z - tr)) | (minOf(a.z, e.z) > splat(hi.z + tr)));
+}
+
+// walk.cpp insideGrid.
+DNG_LANE_INLINE M insideGrid(const GridInfo& g, V3 p) {
+  M in = allTrue();
+  const F c[3] = {p.x, p.y, p.z};
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo = component(g.origin, axis);
+    in = in & (c[axis] >= splat(lo)) & (c[axis] < splat(lo + float(g.dims[axis]) * g.voxel_size));
+  }
+  return in;
+}
+
+DNG_LANE_INLINE LaneSample merge(M m, const LaneSample& a, const LaneSample& b) {
+  return {select(m, a.distance, b.distance),
+          select(m, a.normal, b.normal),
+          (m & a.in_band) | andNot(b.in_band, m),
+          (m & a.far_outside) | andNot(b.far_outside, m),
+          (m & a.far_inside) | andNot(b.far_inside, m),
+          (m & a.no_field) | andNot(b.no_field, m)};
+}
+
+// walk.cpp cellExit: where the segment a + t d leaves the cell that holds a + t d.
+DNG_LANE_INLINE F cellExit(const GridInfo& g, float inv_h, V3 a, V3 d, F t) {
+  const F av[3] = {a.x, a.y, a.z}, dv[3] = {d.x, d.y, d.z};
+  const F inv = splat(inv_h), zero = splat(0.0f);
+  F exit = splat(2.0f);
+  for (int axis = 0; axis < 3; ++axis) {
+    const F du = dv[axis] * inv;
+    const F u = (av[axis] + dv[axis] * t - splat(component(g.origin, axis))) * inv;
+    const F wall = select(du > zero, floor(u) + splat(1.0f), floor(u));
+    exit = select(du != zero, minOf(t + (wall - u) / du, exit), exit);
+  }
+  return exit;
+}
+
+// walkSegment (walk.cpp) through body `sb` for the lanes `near` it, as far as its cases that only
+// advance go: balls, cell planes that stay clear to the cell's wall, the end point's proof. Returns
+// the lanes it proves clear; every other near lane needs the scalar walk (a stop, a slide, a
+// neighbour bound, a clip at the grid's edge).
+DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 start, V3 end, const LaneSample* kept, M kept_valid, M near) {
+  const View& field = *sb.body->field();
+  const GridInfo& g = field.grid();
+  const V3 a = toLocal(sb.start, start);
+  const V3 delta = toLocal(sb.end, end) - a;
+  const F len = length(delta);
+  // The start sample: the response's where it kept one (the same numbers), else a new one.
+  const M fresh = andNot(near, kept_valid);
+  LaneSample s = kept != nullptr ? *kept : LaneSample{};
+  if (any(fresh)) s = merge(kept_valid, s, sampleBody(sb, a, fresh));
+  const F margin = splat(sb.margin), roomy = splat(sb.roomy), reach = splat(sb.reach), proof = splat(sb.proof_level);
+  const F zero = splat(0.0f), one = splat(1.0f);
+  // The common case first: far from the surface, the first ball covers the whole step.
+  M clear = ~near | ~(len > zero) | ((s.far_outside | s.in_band) & (minOf(reach, s.distance) - margin - len >= roomy));
+  // Segments that leave the grid are clipped first: the scalar walk's job.
+  M active = andNot(near & insideGrid(g, a) & insideGrid(g, a + delta), clear);
+  const F nudge = splat(2e-3f * g.voxel_size) / len;
+  F t = zero;
+  for (int n = 0; n < sb.max_samples && any(active); ++n) {
+    const M arrived = active & (t >= one);
+    clear = clear | arrived;
+    active = andNot(active, arrived);
+    const LaneSample here = n == 0 ? s : sampleBody(sb, a + delta * t, active);
+    const M no_field = active & here.no_field; // rounding at a face of the grid: step on
+    t = select(no_field, t + nudge, t);
+    M live = andNot(active, no_field);
+    const F q = select(here.far_inside, zero - reach, minOf(reach, here.distance));
+    const F gap = q - margin;
+    const F rest = (one - t) * len;
+    // One ball covers the rest: clear when it leaves room, or when the end proves itself outside.
+    const M covers = live & (gap >= rest);
+    const M roomy_end = covers & (gap - rest >= roomy);
+    const M need_end = andNot(covers, roomy_end);
+    clear = clear | roomy_end;
+    if (any(need_end)) {
+      const LaneSample e = sampleBody(sb, a + delta * one, need_end);
+      clear = clear | (need_end & (e.far_outside | e.no_field | (e.in_band & (e.distance >= proof))));
+    }
+    active = andNot(active, covers);
+    live = andNot(live, covers);
+    const M far = live & here.far_outside; // a ball that does not reach the end: step on by it
+    t = select(far, t + gap / len, t);
+    live = andNot(live, far);
+    // Inside one cell the field is the cell's plane.
+    const F rate = select(here.in_band, dot(here.normal, delta), zero);
+    const F exit = cellExit(g, ViewInternals::invVoxelSize(field), a, delta, t);
+    const F hit = t + gap / (zero - rate);
+    const M stop = live & (rate < zero) & (gap >= zero) & (hit < exit) & (hit < one);
+    const M to_wall = andNot(live, stop) & ((gap >= zero) | ((rate >= zero) & (q >= proof) & here.in_band));
+    const M through = to_wall & (exit >= one);
+    clear = clear | through;
+    const M next = andNot(to_wall, through);
+    t = select(next, maxOf(t + gap / len, exit + nudge), t);
+    active = andNot(active, andNot(live, next)); // stops and neighbour bounds go to the scalar walk
+  }
+  return clear | (active & (t >= one));
+}
+
+DNG_LANE_INLINE M moveLanes(const StepBatch& batch, const LaneParticles& p, V3 end, const KeptLanes& kept) {
+  M done = allTrue();
+  for (std::size_t b = 0; b < batch.body_count && any(done); ++b) {
+    const StepBody& sb = batch.bodies[b];
+    if (!sb.collides) continue;
+    const M near = done & nearBounds(sb, p.position, end);
+    if (!any(near)) continue;
+    const bool has_kept = any(kept.valid[b]);
+    done = done & walkLanes(sb, p.position, end, has_kept ? &kept.sample[b] : nullptr,
+                            has_kept ? kept.valid[b] : andNot(near, near), near);
+  }
+  return done;
+}
+
+// Strided or packed particle arrays, lane by lane.
+struct Lanes3 {
+  alignas(32) float x[kWidth], y[kWidth], z[kWidth];
+};
+
+inline float* at(float* base, std::size_t stride, std::size_t n) {
+  return reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride);
+}
+
+DNG_LANE_INLINE V3 loadLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n) {
+  if (stride == sizeof(float)) return {load(x + n), load(y + n), load(z + n)};
+  Lanes3 l;
+  for (int lane = 0; lane < kWidth; ++lane) {
+    const std::size_t i = n + std::size_t(lane);
+    l.x[lane] = *at(x, stride, i), l.y[lane] = *at(y, stride, i), l.z[lane] = *at(z, stride, i);
+  }
+  return {load(l.x), load(l.y), load(l.z)};
+}
+
+DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n, V3 v, unsigned on) {
+  Lanes3 l;
+  store(l.x, v.x), store(l.y, v.y), store(l.z, v.z);
+  for (int lane = 0; lane < kWidth; ++lane) {
+    if (!((on >> lane) & 1u)) continue;
+    const std::size_t i = n + std::size_t(lane);
+    *at(x, stride, i) = l.x[lane], *at(y, stride, i) = l.y[lane], *at(z, stride, i) = l.z[lane];
+  }
+}
+
+/// stepParticles over the whole span: lanes for what one ball settles, the scalar path for the rest
+/// and for the tail.
+inline void stepLanes(const StepBatch& batch) {
+  const ParticleSpan& s = *batch.particles;
+  const F dt = splat(batch.dt);
+  std::size_t n = 0;
+  for (; n + kWidth <= s.count; n += kWidth) {
+    LaneParticles p{loadLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n),
+                    loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
+    I touch = splatI(-1);
+    KeptLanes kept;
+    respondLanes(batch, &p, &touch, &kept);
+    const V3 end = p.position + p.velocity * dt;
+    const unsigned done = bits(moveLanes(batch, p, end, kept));
+    storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, end, done);
+    storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, done);
+    alignas(32) std::int32_t body[kWidth];
+    std::memcpy(body, &touch, sizeof body);
+    for (int lane = 0; lane < kWidth; ++lane) {
+      const std::size_t i = n + std::size_t(lane);
+      if (!((done >> lane) & 1u)) {
+        batch.scalar(batch.context, i);
+        continue;
+      }
+      if (s.out_contact != nullptr) s.out_contact[i] = body[lane] >= 0 ? 1 : 0;
+      if (s.out_body != nullptr) s.out_body[i] = body[lane];
+    }
+  }
+  for (; n < s.count; ++n)
+    batch.scalar(batch.context, n);
+}
+
+} // namespace DNG_LANES_NS
+} // namespace lanes
+} // namespace dng

@@ -1,0 +1,19 @@
+// Internal: the decoded layout of a validated View, for the SIMD batch kernels, which decode voxels
+// lane by lane exactly as View's own scalar queries do (view_sample.cpp).
+#pragma once
+
+#include "dng/view.h"
+
+namespace dng {
+
+struct ViewInternals {
+  static float invVoxelSize(const View& v) { return v.inv_voxel_size_; }
+  static const float* dimsF(const View& v) { return v.dims_f_; }
+  static float rangeStep(const View& v) { return v.range_step_; }
+  static std::uint32_t brickLog2(const View& v) { return v.brick_log2_; }
+  static const format::DenseVoxel* dense(const View& v) { return v.dense_; }
+  static const std::uint64_t* top(const View& v) { return v.top_; }
+  static const std::uint32_t* pool(const View& v) { return v.pool_; }
+};
+
+} // namespace dng

@@ -1,0 +1,288 @@
+// The SIMD batch kernels against the scalar reference: for every instruction set this CPU has,
+// View::sampleBatch and stepParticles must give bit for bit the scalar results, on dense and bricked
+// fields, static and moving bodies, several bodies at once, every material rule and strided arrays.
+#include "analytic_fields.h"
+#include "dng/format/writer.h"
+#include "dng/instruction_set.h"
+#include "dng/particles.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace dng {
+namespace {
+
+using analytic::AnalyticField;
+
+constexpr float kDt = 1.0f / 60.0f;
+constexpr float kReachVoxels = 3.0f;
+
+// A 40^3 grid of unit voxels around the origin, dense or bricked.
+struct Field {
+  format::EncodeResult file;
+  View view;
+  Field(const AnalyticField& shape, bool dense) {
+    const format::DenseField samples =
+        analytic::sampleField(analytic::cubeGrid({-20, -20, -20}, 1.0f, 40, kReachVoxels + 0.8661f), shape);
+    file = dense ? format::encodeDense(samples, "") : format::encodeBricked(samples, {}, "");
+    EXPECT_TRUE(file.ok()) << file.error;
+    EXPECT_EQ(View::open(file.bytes.data(), file.bytes.size(), &view), Status::kOk);
+  }
+};
+
+// Restores the process's choice when a test ends, whatever it chose.
+struct ChosenSet {
+  explicit ChosenSet(InstructionSet set) : before(activeInstructionSet()) {
+    EXPECT_EQ(setInstructionSet(set), Status::kOk);
+  }
+  ~ChosenSet() { setInstructionSet(before); }
+  InstructionSet before;
+};
+
+// The SIMD sets this machine can run: each is compared with the scalar path.
+std::vector<InstructionSet> simdSets() {
+  std::vector<InstructionSet> out;
+  for (InstructionSet set : {InstructionSet::kSse41, InstructionSet::kAvx2}) {
+    if (set <= bestInstructionSet()) out.push_back(set);
+  }
+  return out;
+}
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+::testing::AssertionResult sameSample(const Sample& a, const Sample& b) {
+  if (a.status == b.status && sameBits(a.distance, b.distance) && sameBits(a.normal.x, b.normal.x) &&
+      sameBits(a.normal.y, b.normal.y) && sameBits(a.normal.z, b.normal.z))
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "status " << unsigned(a.status) << " vs " << unsigned(b.status) << ", d "
+                                       << a.distance << " vs " << b.distance << ", n (" << a.normal.x << ", "
+                                       << a.normal.y << ", " << a.normal.z << ") vs (" << b.normal.x << ", "
+                                       << b.normal.y << ", " << b.normal.z << ")";
+}
+
+TEST(InstructionSet, ChoosingOneTheMachineLacksFailsAndChangesNothing) {
+  const InstructionSet before = activeInstructionSet();
+  Diagnostic diag;
+  EXPECT_EQ(setInstructionSet(InstructionSet(7), &diag), Status::kInvalidArgument);
+  EXPECT_NE(std::string(diag.message).find("not available"), std::string::npos);
+  EXPECT_EQ(activeInstructionSet(), before);
+  EXPECT_STREQ(instructionSetName(InstructionSet::kAvx2), "avx2");
+  ChosenSet scalar(InstructionSet::kScalar);
+  EXPECT_EQ(activeInstructionSet(), InstructionSet::kScalar);
+}
+
+// Points in and around the grid, a few of them not numbers at all, 16 bytes apart (xyz + padding).
+std::vector<float> queryPoints(std::size_t count) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coord(-22.0f, 22.0f);
+  std::vector<float> out(count * 4, 0.0f);
+  for (std::size_t n = 0; n < count; ++n)
+    for (int a = 0; a < 3; ++a)
+      out[4 * n + std::size_t(a)] = coord(rng);
+  out[4 * 5] = std::numeric_limits<float>::quiet_NaN();
+  out[4 * 9 + 1] = std::numeric_limits<float>::infinity();
+  return out;
+}
+
+TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
+  const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+  const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
+  const std::vector<float> points = queryPoints(20003); // not a multiple of any lane count: tails too
+  const std::size_t count = points.size() / 4;
+  for (const AnalyticField* shape : {&box, &sphere}) {
+    for (bool dense : {false, true}) {
+      Field field(*shape, dense);
+      std::vector<Sample> reference(count), lanes(count);
+      {
+        ChosenSet scalar(InstructionSet::kScalar);
+        field.view.sampleBatch(points.data(), 16, count, reference.data());
+      }
+      for (InstructionSet set : simdSets()) {
+        ChosenSet chosen(set);
+        field.view.sampleBatch(points.data(), 16, count, lanes.data());
+        for (std::size_t n = 0; n < count; ++n)
+          ASSERT_TRUE(sameSample(lanes[n], reference[n])) << instructionSetName(set) << ", point " << n;
+      }
+    }
+  }
+}
+
+// Particles as an array of structures: positions and velocities interleaved with other data.
+struct Particle {
+  float position[3];
+  float age;
+  float velocity[3];
+  float size;
+};
+
+struct Swarm {
+  std::vector<Particle> particles;
+  std::vector<std::uint8_t> contact;
+  std::vector<std::int32_t> body;
+  ParticleSpan span() {
+    ParticleSpan s;
+    s.position_x = &particles[0].position[0], s.position_y = &particles[0].position[1];
+    s.position_z = &particles[0].position[2];
+    s.velocity_x = &particles[0].velocity[0], s.velocity_y = &particles[0].velocity[1];
+    s.velocity_z = &particles[0].velocity[2];
+    s.position_stride = s.velocity_stride = sizeof(Particle);
+    s.count = particles.size();
+    s.out_contact = contact.data();
+    s.out_body = body.data();
+    return s;
+  }
+};
+
+// Structure-of-arrays copy of the same particles: the packed fast path.
+struct Packed {
+  std::vector<float> px, py, pz, vx, vy, vz;
+  std::vector<std::uint8_t> contact;
+  std::vector<std::int32_t> body;
+  explicit Packed(const Swarm& s) : contact(s.contact), body(s.body) {
+    for (const Particle& p : s.particles) {
+      px.push_back(p.position[0]), py.push_back(p.position[1]), pz.push_back(p.position[2]);
+      vx.push_back(p.velocity[0]), vy.push_back(p.velocity[1]), vz.push_back(p.velocity[2]);
+    }
+  }
+  ParticleSpan span() {
+    ParticleSpan s;
+    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
+    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
+    s.count = px.size();
+    s.out_contact = contact.data();
+    s.out_body = body.data();
+    return s;
+  }
+};
+
+// Particles anywhere from touching distance to beyond the band, moving at up to twice the design speed
+// in random directions: some settled by one ball, many not.
+Swarm randomSwarm(std::size_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> coord(-19.0f, 19.0f), unit(-1.0f, 1.0f);
+  Swarm out;
+  while (out.particles.size() < count) {
+    const Vec3f v = normalizeOrZero({unit(rng), unit(rng), unit(rng)}) * (2.0f * kReachVoxels / kDt * unit(rng));
+    out.particles.push_back({{coord(rng), coord(rng), coord(rng)}, 0.0f, {v.x, v.y, v.z}, 0.0f});
+  }
+  out.contact.assign(count, 7);
+  out.body.assign(count, 99);
+  return out;
+}
+
+::testing::AssertionResult sameParticles(const Swarm& a, const Swarm& b) {
+  for (std::size_t n = 0; n < a.particles.size(); ++n) {
+    const Particle &p = a.particles[n], &q = b.particles[n];
+    for (int c = 0; c < 3; ++c) {
+      if (!sameBits(p.position[c], q.position[c]) || !sameBits(p.velocity[c], q.velocity[c]))
+        return ::testing::AssertionFailure()
+               << "particle " << n << " axis " << c << ": position " << p.position[c] << " vs " << q.position[c]
+               << ", velocity " << p.velocity[c] << " vs " << q.velocity[c];
+    }
+    if (a.contact[n] != b.contact[n] || a.body[n] != b.body[n])
+      return ::testing::AssertionFailure() << "particle " << n << ": contact/body differ";
+  }
+  return ::testing::AssertionSuccess();
+}
+
+void copyBack(const Packed& packed, Swarm* io) {
+  for (std::size_t n = 0; n < io->particles.size(); ++n) {
+    Particle& p = io->particles[n];
+    p.position[0] = packed.px[n], p.position[1] = packed.py[n], p.position[2] = packed.pz[n];
+    p.velocity[0] = packed.vx[n], p.velocity[1] = packed.vy[n], p.velocity[2] = packed.vz[n];
+  }
+  io->contact = packed.contact;
+  io->body = packed.body;
+}
+
+// Steps the same particles with the scalar path (strided) and with each SIMD set (strided and packed),
+// comparing everything after every step.
+void expectSameSteps(const std::vector<Body>& bodies, std::uint32_t seed) {
+  const Swarm start = randomSwarm(3001, seed);
+  for (InstructionSet set : simdSets()) {
+    Swarm reference = start, strided = start;
+    Packed packed(start);
+    for (int step = 0; step < 25; ++step) {
+      {
+        ChosenSet scalar(InstructionSet::kScalar);
+        ASSERT_EQ(stepParticles(reference.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
+      }
+      ChosenSet chosen(set);
+      ASSERT_EQ(stepParticles(strided.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
+      ASSERT_EQ(stepParticles(packed.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
+      ASSERT_TRUE(sameParticles(strided, reference)) << instructionSetName(set) << " strided, step " << step;
+      Swarm from_packed = start;
+      copyBack(packed, &from_packed);
+      ASSERT_TRUE(sameParticles(from_packed, reference)) << instructionSetName(set) << " packed, step " << step;
+    }
+  }
+}
+
+Body makeBody(const View& view, const Material& material) {
+  Body body;
+  EXPECT_EQ(Body::create(&view, material, &body), Status::kOk);
+  return body;
+}
+
+Material everyRule() {
+  Material m;
+  m.restitution = 0.4f;
+  m.collision_distance = 0.2f;
+  m.drag = 2.0f;
+  m.contact_distance = 1.0f;
+  m.flow_in = 30.0f;
+  m.flow_out = -10.0f;
+  m.flow_distance = 2.0f;
+  return m;
+}
+
+TEST(InstructionSet, StepGivesTheScalarResultsOnAStaticBody) {
+  const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
+  for (bool dense : {false, true}) {
+    Field field(sphere, dense);
+    expectSameSteps({makeBody(field.view, Material{})}, 11);
+    expectSameSteps({makeBody(field.view, everyRule())}, 12);
+  }
+}
+
+TEST(InstructionSet, StepGivesTheScalarResultsOnAMovingSpinningScaledBody) {
+  const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+  Field field(box, false);
+  Body body = makeBody(field.view, everyRule());
+  const float quaternion[4] = {0.9f, 0.1f, -0.3f, 0.2f};
+  ASSERT_EQ(body.setTransform({1.0f, -2.0f, 0.5f}, quaternion, 0.8f), Status::kOk);
+  body.setVelocity({30.0f, -12.0f, 5.0f}, {0.5f, 2.0f, -1.0f});
+  expectSameSteps({body}, 13);
+}
+
+TEST(InstructionSet, StepGivesTheScalarResultsWithSeveralBodiesAndEveryResponse) {
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 5.0f, 5.0f});
+  Field sphere_field(sphere, false), box_field(box, true);
+  Material spring;
+  spring.response = Response::kSpring;
+  spring.drag = 1.0f;
+  spring.contact_distance = 2.0f;
+  Material swept = everyRule();
+  swept.swept = true;
+  Material ghost; // drag and flow only: never walked through
+  ghost.response = Response::kNone;
+  ghost.drag = 3.0f;
+  ghost.contact_distance = 2.0f;
+  std::vector<Body> bodies{makeBody(sphere_field.view, Material{}), makeBody(box_field.view, spring),
+                           makeBody(sphere_field.view, swept), makeBody(box_field.view, ghost)};
+  const float identity[4] = {1, 0, 0, 0};
+  const Vec3f places[] = {{-9, 0, 0}, {9, 2, 0}, {0, 10, 3}, {0, -9, -2}};
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    ASSERT_EQ(bodies[b].setTransform(places[b], identity, 0.9f), Status::kOk);
+  bodies[2].setVelocity({0, -20.0f, 0}, {0, 0, 1.5f});
+  expectSameSteps(bodies, 14);
+}
+
+} // namespace
+} // namespace dng
