@@ -187,6 +187,17 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 start, V3 end, const LaneSamp
   M clear = ~near | ~(len > zero) | ((s.far_outside | s.in_band) & (minOf(reach, s.distance) - margin - len >= roomy));
   // Segments that leave the grid are clipped first: the scalar walk's job.
   M active = andNot(near & insideGrid(g, a) & insideGrid(g, a + delta), clear);
+  // Two balls, the start's and the end's (walk.cpp twoBallsClear).
+  const M usable = active & (s.far_outside | s.in_band);
+  if (any(usable)) {
+    const LaneSample e = sampleBody(sb, a + delta, usable);
+    const M end_proven = e.far_outside | e.no_field | (e.in_band & (e.distance >= proof));
+    const F gap_start = minOf(reach, s.distance) - margin;
+    const F gap_end = select(e.in_band, minOf(reach, e.distance), reach) - margin;
+    const M two = usable & end_proven & ((gap_start >= len) | (gap_start + gap_end >= len));
+    clear = clear | two;
+    active = andNot(active, two);
+  }
   const F nudge = splat(2e-3f * g.voxel_size) / len;
   F t = zero;
   for (int n = 0; n < sb.max_samples && any(active); ++n) {
@@ -263,12 +274,32 @@ DNG_LANE_INLINE V3 loadLanes(float* x, float* y, float* z, std::size_t stride, s
 }
 
 DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n, V3 v, unsigned on) {
+  if (stride == sizeof(float)) { // packed: whole registers, lanes left to the scalar path keep their bytes
+    const M m = laneMask(on);
+    store(x + n, select(m, v.x, load(x + n)));
+    store(y + n, select(m, v.y, load(y + n)));
+    store(z + n, select(m, v.z, load(z + n)));
+    return;
+  }
   Lanes3 l;
   store(l.x, v.x), store(l.y, v.y), store(l.z, v.z);
   for (int lane = 0; lane < kWidth; ++lane) {
     if (!((on >> lane) & 1u)) continue;
     const std::size_t i = n + std::size_t(lane);
     *at(x, stride, i) = l.x[lane], *at(y, stride, i) = l.y[lane], *at(z, stride, i) = l.z[lane];
+  }
+}
+
+// The optional per-particle outputs of the lanes in `on`.
+DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch, unsigned on) {
+  if (s.out_contact == nullptr && s.out_body == nullptr) return;
+  alignas(32) std::int32_t body[kWidth];
+  std::memcpy(body, &touch, sizeof body);
+  for (int lane = 0; lane < kWidth; ++lane) {
+    if (!((on >> lane) & 1u)) continue;
+    const std::size_t i = n + std::size_t(lane);
+    if (s.out_contact != nullptr) s.out_contact[i] = body[lane] >= 0 ? 1 : 0;
+    if (s.out_body != nullptr) s.out_body[i] = body[lane];
   }
 }
 
@@ -288,16 +319,10 @@ inline void stepLanes(const StepBatch& batch) {
     const unsigned done = bits(moveLanes(batch, p, end, kept));
     storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, end, done);
     storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, done);
-    alignas(32) std::int32_t body[kWidth];
-    std::memcpy(body, &touch, sizeof body);
+    storeTouches(s, n, touch, done);
+    const unsigned rest = done ^ ((1u << kWidth) - 1);
     for (int lane = 0; lane < kWidth; ++lane) {
-      const std::size_t i = n + std::size_t(lane);
-      if (!((done >> lane) & 1u)) {
-        batch.scalar(batch.context, i);
-        continue;
-      }
-      if (s.out_contact != nullptr) s.out_contact[i] = body[lane] >= 0 ? 1 : 0;
-      if (s.out_body != nullptr) s.out_body[i] = body[lane];
+      if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
     }
   }
   for (; n < s.count; ++n)

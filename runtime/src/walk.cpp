@@ -104,6 +104,23 @@ bool provable(const View& field, float reach, float proof, Vec3f p, const Sample
   return neighbourBound(field, reach, p) >= proof;
 }
 
+// Whether a sample proves a ball around its point clear: a far outside voxel, or a plane reading.
+bool provesBall(const Sample& s) { return s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kInBand; }
+
+// Two balls, around the start and around the end, cover the whole segment when their clear radii
+// add up to its length: every point of it lies within one of them (the distance is 1-Lipschitz and
+// the planes bound it from below). The end must also prove itself outside on its own plane, so the
+// next step starts from a point it can prove. One more sample settles most moves near a surface
+// that the first ball alone cannot cover; without it the walk goes cell by cell.
+bool twoBallsClear(const Sample& start, const Sample& end, float reach, float margin, float proof_level, float len) {
+  const bool end_proven = end.status == SampleStatus::kFarOutside || end.status == SampleStatus::kNoField ||
+                          (end.status == SampleStatus::kInBand && end.distance >= proof_level);
+  if (!end_proven) return false;
+  const float gap_start = std::min(start.distance, reach) - margin;
+  const float gap_end = (end.status == SampleStatus::kInBand ? std::min(end.distance, reach) : reach) - margin;
+  return gap_start >= len || gap_start + gap_end >= len;
+}
+
 } // namespace
 
 WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first, float margin, int max_samples) {
@@ -113,16 +130,19 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   const float reach = field.guaranteedReach();
   const float roomy = walkRoomy(field);
   // The common case first: far from the surface, the first sample's ball covers the whole step.
-  if (first != nullptr && (first->status == SampleStatus::kFarOutside || first->status == SampleStatus::kInBand) &&
-      std::min(first->distance, reach) - margin - len >= roomy)
-    return {};
+  if (first != nullptr && provesBall(*first) && std::min(first->distance, reach) - margin - len >= roomy) return {};
   float t = 0.0f, t_end = 1.0f;
   if (!(len > 0.0f) || !clipToGrid(g, a, d, &t, &t_end)) return {};
+  const float proof_level = walkProofLevel(field);
+  const Sample start = first != nullptr ? *first : field.sample(a);
+  first = &start;
+  if (t == 0.0f && t_end == 1.0f && provesBall(start) &&
+      twoBallsClear(start, field.sample(a + d), reach, margin, proof_level, len))
+    return {};
   const float inv_h = 1.0f / g.voxel_size;
   // Steps past a cell wall land in the next cell: a fraction of a voxel, far below any margin.
   const float nudge = 2e-3f * g.voxel_size / len;
   const Vec3f back = d * (-1.0f / len);
-  const float proof_level = walkProofLevel(field);
   // The last points the field proves outside by itself, where a blocked walk stops; -1: none yet.
   // Own: by the point's own cell, so the next step can always recede along that cell's normal.
   // Any: by a neighbour's bound as well, the fallback.
