@@ -1,19 +1,167 @@
-// A thin open sheet (Debian's blade.off, or any sheet) baked in potential mode repels particles from
-// both sides (paper §3.1, method 2).
+// A thin open sheet, such as Debian's blade.off, has no inside: only a field baked in potential mode
+// (paper §3.1, method 2) pushes particles away on both sides. This sample fires particles at the sheet
+// from both sides, from inside its band, and counts those that got through.
+//
 //   dngbake blade.off -o blade.dng --mode potential
-//   dng_thin_sheet blade.dng [OUTPUT_FOLDER]
-#include "figures.h"
-#include "sample_main.h"
+//   dng_thin_sheet blade.dng [OUTPUT_FOLDER] [--particles N] [--no-pictures]
+//
+// Writes OUTPUT_FOLDER/thin_sheet_side.png and _top.png and prints two JSON lines: the run's statistics,
+// and how many particles crossed. Exits 1 if one crossed or ended inside by the field (2 when the file
+// cannot be read). On a field baked with normal-blur (method 1) particles do cross: the paper's
+// "works towards one direction" only. Units: the sheet's own; 60 steps per second.
+#include "sample_io.h"
 
+#include "dng/file.h"
+#include "dng/particles.h"
+
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using dng::Vec3f;
+
+constexpr float kDt = 1.0f / 60.0f;
+constexpr int kSteps = 60;
+
+// Particles as structure-of-arrays, the layout stepParticles reads fastest.
+struct Particles {
+  std::vector<float> px, py, pz, vx, vy, vz;
+  std::vector<std::uint8_t> contact; // 1 when a body acted on the particle this step
+
+  void add(Vec3f p, Vec3f v) {
+    px.push_back(p.x), py.push_back(p.y), pz.push_back(p.z);
+    vx.push_back(v.x), vy.push_back(v.y), vz.push_back(v.z);
+    contact.push_back(0);
+  }
+  Vec3f position(std::size_t n) const { return {px[n], py[n], pz[n]}; }
+  dng::ParticleSpan span() {
+    dng::ParticleSpan s;
+    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
+    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
+    s.count = px.size();
+    s.out_contact = contact.data();
+    return s;
+  }
+};
+
+float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+
+// Where a particle starts, and the surface plane it faces there: its closest point on the sheet and the
+// normal towards the particle. It has crossed if it gets behind that plane near where it started.
+struct Start {
+  Vec3f position, closest, normal;
+};
+
+// The direction away from the sheet at q: the gradient of the trilinear distance. It does not read the
+// stored normals, so a one-sided field is put to the test from both sides.
+Vec3f away(const dng::View& field, Vec3f q) {
+  const float e = 0.5f * field.grid().voxel_size;
+  auto d = [&](Vec3f x) { return field.sample(x, dng::Interpolation::kTrilinear).distance; };
+  return dng::normalizeOrZero({d(q + Vec3f{e, 0, 0}) - d(q - Vec3f{e, 0, 0}),
+                               d(q + Vec3f{0, e, 0}) - d(q - Vec3f{0, e, 0}),
+                               d(q + Vec3f{0, 0, e}) - d(q - Vec3f{0, 0, e})});
+}
+
+// Whether q (at distance d, direction n from the sheet) lies over the sheet's interior: there the
+// distance stays the same three voxels along the sheet. Near a rim it grows; particles may go around
+// the edge there, and the potential method's normals turn sideways (a limitation of method 2 this
+// sample leaves out rather than hides: docs/SAMPLES.md).
+bool overInterior(const dng::View& field, Vec3f q, Vec3f n, float d) {
+  const float voxel = field.grid().voxel_size;
+  const Vec3f t1 = dng::normalizeOrZero(dng::cross(n, std::fabs(n.x) < 0.9f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0}));
+  const Vec3f t2 = dng::cross(n, t1);
+  for (Vec3f t : {t1, t1 * -1.0f, t2, t2 * -1.0f}) {
+    const dng::Sample s = field.sample(q + t * (3.0f * voxel), dng::Interpolation::kTrilinear);
+    if (s.status != dng::SampleStatus::kInBand || std::fabs(s.distance - d) > 0.1f * voxel) return false;
+  }
+  return true;
+}
+
+// A random start in the band on either side of the sheet, 0.4 to 0.9 of the field's guaranteed reach
+// away from it, over its interior.
+Start randomStart(const dng::View& field, Vec3f size, std::mt19937& rng) {
+  const dng::GridInfo& g = field.grid();
+  const float reach = field.guaranteedReach();
+  for (;;) {
+    const Vec3f q = g.origin + Vec3f{uniform(rng, 0, size.x), uniform(rng, 0, size.y), uniform(rng, 0, size.z)};
+    const dng::Sample s = field.sample(q, dng::Interpolation::kTrilinear);
+    if (s.status != dng::SampleStatus::kInBand || s.distance < 0.4f * reach || s.distance > 0.9f * reach) continue;
+    const Vec3f n = away(field, q);
+    if (dng::dot(n, n) == 0.0f || !overInterior(field, q, n, s.distance)) continue;
+    return {q, q - n * s.distance, n};
+  }
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
-  using namespace dng::samples;
-  const dng::File file = openFieldArgument(argc, argv, "[OUTPUT_FOLDER]");
-  RunOptions options;
-  options.picture_prefix = outputFolder(argc, argv, 2) + "/thin_sheet";
-  const SheetResult r = runSheet(file.view(), options);
-  std::printf("%s\n", r.stats.json("thin_sheet").c_str());
-  std::printf("{\"sample\":\"thin_sheet\",\"crossed\":%zu}\n", r.crossed);
-  return r.crossed == 0 && r.stats.inside == 0 ? 0 : 1;
+  const dng::samples::CommandLine command_line =
+      dng::samples::parseCommandLine(argc, argv, 1, 2, "SHEET.dng [OUTPUT_FOLDER]");
+  dng::File file;
+  dng::Diagnostic diag;
+  if (dng::File::open(command_line.get(0, "").c_str(), &file, &diag) != dng::Status::kOk) {
+    std::fprintf(stderr, "%s: %s: %s\n", argv[0], command_line.get(0, "").c_str(), diag.message);
+    return 2;
+  }
+  const std::string folder = dng::samples::outputFolder(command_line.get(1, "out"));
+  const dng::View& field = file.view();
+  const dng::GridInfo& g = field.grid();
+  const Vec3f size = Vec3f{float(g.dims[0]), float(g.dims[1]), float(g.dims[2])} * g.voxel_size;
+
+  dng::Material material;
+  material.restitution = 0.3f;
+  material.collision_distance = 0.2f * g.voxel_size;
+  dng::Body sheet;
+  dng::Body::create(&field, material, &sheet);
+  const std::vector<dng::Body> bodies = {sheet};
+
+  // Every particle starts at once, flying at the sheet at 0.8 of the field's reach per step: fast, but
+  // within what one step's walk can prove (docs/RUNTIME.md). No gravity.
+  const int count = command_line.particles > 0 ? command_line.particles : 4000;
+  const float speed = 0.8f * field.guaranteedReach() / kDt;
+  std::mt19937 rng(1);
+  Particles particles;
+  std::vector<Start> starts;
+  for (int i = 0; i < count; ++i) {
+    starts.push_back(randomStart(field, size, rng));
+    particles.add(starts.back().position, starts.back().normal * -speed);
+  }
+
+  dng::samples::Trails trails(command_line.pictures ? folder + "/thin_sheet" : "", g.origin, g.origin + size, bodies,
+                              {0.3f, 0.8f, 0.3f});
+  std::vector<std::uint8_t> crossed(std::size_t(count), 0);
+  double step_seconds = 0.0;
+  std::uint64_t contacts = 0;
+  for (int step = 0; step < kSteps; ++step) {
+    const auto start = std::chrono::steady_clock::now();
+    dng::stepParticles(particles.span(), kDt, bodies.data(), bodies.size());
+    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // Checked every step near the start: a particle that got through keeps flying away.
+    for (std::size_t n = 0; n < crossed.size(); ++n) {
+      contacts += particles.contact[n];
+      const Vec3f from_plane = particles.position(n) - starts[n].closest;
+      if (dng::length(from_plane) < 2.0f * g.band && dng::dot(from_plane, starts[n].normal) < 0.0f) crossed[n] = 1;
+    }
+    trails.record(step, particles.px, particles.py, particles.pz);
+  }
+  trails.write();
+
+  // "Inside" as the field sees it: where it reads below zero (the same count as every other sample's).
+  std::size_t inside = 0, crossed_count = 0;
+  for (std::size_t n = 0; n < crossed.size(); ++n) {
+    const dng::Sample s = field.sample(particles.position(n));
+    inside += s.status != dng::SampleStatus::kNoField && s.distance < 0.0f ? 1 : 0;
+    crossed_count += crossed[n];
+  }
+  std::printf("{\"sample\":\"thin_sheet\",\"particles\":%d,\"steps\":%d,\"step_seconds\":%.4f,"
+              "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
+              count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
+              (unsigned long long)contacts, inside);
+  std::printf("{\"sample\":\"thin_sheet\",\"crossed\":%zu}\n", crossed_count);
+  return crossed_count == 0 && inside == 0 ? 0 : 1;
 }

@@ -1,114 +1,184 @@
-// The samples at a small size, asserting the physics each figure is about, not just that it ran.
-#include "figures.h"
+// The sample programs, run as a user runs them (small, with --particles, and mostly --no-pictures) and
+// judged on the JSON lines they print: the physics each figure is about, not just that it ran. These
+// are the same programs, scenes and measures that docs/SAMPLES.md describes at full size.
+#include "run_program.h"
+#include "sample_output.h"
+#include "temp_dir.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <fstream>
+#include <string>
+
 #ifdef DNG_HAVE_BAKER
-#include "dng/file.h"
 #include "stages.h"
-#include "temp_dir.h"
 #include "test_meshes.h"
 #endif
 
 namespace dng {
-namespace samples {
+namespace testing {
 namespace {
 
-RunOptions small(int particles) {
-  RunOptions o;
-  o.particles = particles;
-  return o;
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+// DNG_SAMPLES_DIR/dng_PROGRAM ARGS --particles N [--no-pictures], in the shell.
+SampleOutput runProgramSmall(const std::string& program, const std::string& args, int particles,
+                             bool pictures = false) {
+  return runSample(quoted(std::string(DNG_SAMPLES_DIR) + "/dng_" + program) + " " + args + " --particles " +
+                   std::to_string(particles) + (pictures ? "" : " --no-pictures"));
+}
+
+// Width and height from a PNG's header, or 0 x 0 when the file is not a PNG.
+std::pair<std::uint32_t, std::uint32_t> pngSize(const std::string& path) {
+  const std::string bytes = readFile(path);
+  if (bytes.size() < 24 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) return {0, 0};
+  auto be32 = [&](std::size_t at) {
+    return std::uint32_t(std::uint8_t(bytes[at])) << 24 | std::uint32_t(std::uint8_t(bytes[at + 1])) << 16 |
+           std::uint32_t(std::uint8_t(bytes[at + 2])) << 8 | std::uint32_t(std::uint8_t(bytes[at + 3]));
+  };
+  return {be32(16), be32(20)};
+}
+
+TEST(SampleOutput, ReadsTheSamplesJsonLines) {
+  const auto fields = parseFlatJson(R"({"sample":"fig3a_bouncy","particles":400,"step_seconds":0.0123})");
+  EXPECT_EQ(fields.at("sample"), "fig3a_bouncy");
+  EXPECT_EQ(fields.at("particles"), "400");
+  EXPECT_EQ(fields.at("step_seconds"), "0.0123");
+  EXPECT_TRUE(parseFlatJson("dng_demo: no such file").empty());
 }
 
 // Fig. 3: bounce heights fall with beta; drag stops sliding.
 TEST(Samples, Fig3BounceHeightFallsWithBetaAndDragStopsSliding) {
-  const FallingResult bouncy = runFalling(0.7f, 0.0f, small(400));
-  const FallingResult slippery = runFalling(0.0f, 0.0f, small(400));
-  const FallingResult draggy = runFalling(0.0f, 2.0f, small(400));
-  for (const FallingResult* r : {&bouncy, &slippery, &draggy})
-    EXPECT_EQ(r->stats.inside, 0u);
-  EXPECT_GT(bouncy.mean_rebound_height, 0.5f);
-  EXPECT_GT(bouncy.mean_rebound_height, 5.0f * slippery.mean_rebound_height);
-  EXPECT_GT(draggy.fraction_resting_on_top, 0.6f);
-  EXPECT_GT(draggy.fraction_resting_on_top, 5.0f * slippery.fraction_resting_on_top);
+  TempDir dir("samples_fig3");
+  const SampleOutput out = runProgramSmall("fig3_falling", quoted(dir.path().string()), 400);
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  for (const char* variant : {"fig3a_bouncy", "fig3b_slippery", "fig3c_drag"}) {
+    EXPECT_EQ(out.get(variant, "particles"), 400) << variant;
+    EXPECT_EQ(out.get(variant, "inside"), 0) << variant;
+  }
+  const double bouncy = out.get("fig3a_bouncy", "mean_rebound_height");
+  EXPECT_GT(bouncy, 0.5);
+  EXPECT_GT(bouncy, 5.0 * out.get("fig3b_slippery", "mean_rebound_height"));
+  const double resting = out.get("fig3c_drag", "fraction_resting_on_top");
+  EXPECT_GT(resting, 0.6);
+  EXPECT_GT(resting, 5.0 * out.get("fig3b_slippery", "fraction_resting_on_top"));
+}
+
+// Every picture-making sample writes PREFIX_side.png and PREFIX_top.png, 640 pixels on the long side.
+TEST(Samples, Fig3WritesASideAndATopPicturePerVariant) {
+  TempDir dir("samples_pictures");
+  const SampleOutput out = runProgramSmall("fig3_falling", quoted(dir.path().string()), 50, true);
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  for (const char* variant : {"fig3a_bouncy", "fig3b_slippery", "fig3c_drag"}) {
+    for (const char* view : {"_side.png", "_top.png"}) {
+      const auto [width, height] = pngSize(dir.file(std::string(variant) + view));
+      EXPECT_EQ(std::max(width, height), 640u) << variant << view;
+      EXPECT_GT(std::min(width, height), 0u) << variant << view;
+    }
+  }
 }
 
 // Fig. 6: the stream goes around the sphere (ending far off its axis), not through it.
 TEST(Samples, Fig6StreamFlowsAroundTheSphere) {
-  const StreamResult side = runSphereStream(false, small(1200));
-  EXPECT_EQ(side.stats.inside, 0u);
-  EXPECT_GT(side.fraction_downstream, 0.3f);
-  EXPECT_GT(side.mean_downstream_offset, 1.0f); // the sphere's radius: they passed beside it
-  const StreamResult above = runSphereStream(true, small(1200));
-  EXPECT_EQ(above.stats.inside, 0u);
-  EXPECT_GT(above.fraction_downstream, 0.9f);
-  EXPECT_GT(above.mean_downstream_offset, 1.0f);
+  TempDir dir("samples_fig6");
+  const SampleOutput out = runProgramSmall("fig6_sphere_flow", quoted(dir.path().string()), 1200);
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  EXPECT_EQ(out.get("fig6a_from_side", "particles"), 1200);
+  EXPECT_EQ(out.get("fig6a_from_side", "inside"), 0);
+  EXPECT_GT(out.get("fig6a_from_side", "fraction_downstream"), 0.3);
+  EXPECT_GT(out.get("fig6a_from_side", "mean_downstream_offset"), 1.0); // the sphere's radius: they passed beside it
+  EXPECT_EQ(out.get("fig6b_from_above", "inside"), 0);
+  EXPECT_GT(out.get("fig6b_from_above", "fraction_downstream"), 0.9);
+  EXPECT_GT(out.get("fig6b_from_above", "mean_downstream_offset"), 1.0);
 }
 
 // Fig. 7: around the shaft in every variant; a negative rho_out pulls the stream in behind it.
 TEST(Samples, Fig7ShaftFlowDependsOnRhoInAndRhoOut) {
-  const StreamResult strong_in = runShaftStream(12, 3, 0.2f, small(1200));
-  const StreamResult strong_out = runShaftStream(3, 6, 0.1f, small(1200));
-  const StreamResult attracting = runShaftStream(3, -3, 0.2f, small(1200));
-  for (const StreamResult* r : {&strong_in, &strong_out, &attracting}) {
-    EXPECT_EQ(r->stats.inside, 0u);
-    EXPECT_GT(r->fraction_downstream, 0.3f);
+  TempDir dir("samples_fig7");
+  const SampleOutput out = runProgramSmall("fig7_shaft_flow", quoted(dir.path().string()), 1200);
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  for (const char* variant : {"fig7a_12_3", "fig7b_3_6", "fig7c_3_minus3"}) {
+    EXPECT_EQ(out.get(variant, "particles"), 1200) << variant;
+    EXPECT_EQ(out.get(variant, "inside"), 0) << variant;
+    EXPECT_GT(out.get(variant, "fraction_downstream"), 0.3) << variant;
   }
-  EXPECT_GT(strong_in.mean_downstream_offset, 0.4f); // wider than the shaft
-  EXPECT_LT(attracting.mean_downstream_offset, 0.5f * strong_in.mean_downstream_offset);
+  const double strong_in = out.get("fig7a_12_3", "mean_downstream_offset");
+  EXPECT_GT(strong_in, 0.4); // wider than the shaft
+  EXPECT_LT(out.get("fig7c_3_minus3", "mean_downstream_offset"), 0.5 * strong_in);
 }
 
 // Fig. 8: nothing ends inside the ground or a building, and the gas gets out between them.
 TEST(Samples, Fig8ExplosionFlowsBetweenTheBuildings) {
-  const ExplosionResult r = runExplosion(small(1500));
-  EXPECT_EQ(r.stats.inside, 0u);
-  EXPECT_GT(r.fraction_beyond_buildings, 0.3f);
-  EXPECT_GT(r.stats.contacts, 0u);
+  TempDir dir("samples_fig8");
+  const SampleOutput out = runProgramSmall("fig8_explosion", quoted(dir.path().string()), 1500);
+  ASSERT_EQ(out.exit_code, 0) << out.text;
+  EXPECT_EQ(out.get("fig8_explosion", "particles"), 1500);
+  EXPECT_EQ(out.get("fig8_explosion", "inside"), 0);
+  EXPECT_GT(out.get("fig8_explosion", "fraction_beyond_buildings"), 0.3);
+  EXPECT_GT(out.get("fig8_explosion", "contacts"), 0);
+}
+
+TEST(Samples, RejectAnUnknownOptionWithTheirUsage) {
+  const ProgramRun run = runProgram(quoted(std::string(DNG_SAMPLES_DIR) + "/dng_fig8_explosion") + " --bogus 2>&1");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("usage:"), std::string::npos) << run.output;
 }
 
 #ifdef DNG_HAVE_BAKER
 class BakedSamples : public ::testing::Test {
 protected:
-  File bake(const testing::Mesh& mesh, baker::NormalMode mode, const std::string& name) {
-    testing::writeObj(mesh, dir_ + "/" + name + ".obj");
+  // Bakes `mesh` at resolution 48 and returns the .dng file's path.
+  std::string bake(const Mesh& mesh, baker::NormalMode mode, const std::string& name) {
+    writeObj(mesh, dir_.file(name + ".obj"));
     baker::BakeOptions options;
     options.mode = mode;
     options.resolution = 48;
     baker::BakeReport report;
     EXPECT_TRUE(
-        baker::bake(dir_ + "/" + name + ".obj", {dir_ + "/" + name + ".dng", {}}, options, nullptr, nullptr, &report)
-            .ok());
-    File file;
-    EXPECT_EQ(File::open((dir_ + "/" + name + ".dng").c_str(), &file), Status::kOk);
-    return file;
+        baker::bake(dir_.file(name + ".obj"), {dir_.file(name + ".dng"), {}}, options, nullptr, nullptr, &report).ok());
+    return dir_.file(name + ".dng");
   }
-  testing::TempDir temp_{"samples_test"};
-  const std::string dir_ = temp_.path().string();
+  TempDir dir_{"samples_test"};
 };
 
 // A zero-thickness sheet in potential mode keeps particles from both sides on their side.
 TEST_F(BakedSamples, ThinSheetInPotentialModeStopsParticlesFromBothSides) {
-  const File sheet = bake(testing::sheetMesh({0, 0, 0}, 1.0f), baker::NormalMode::kPotential, "sheet");
-  const SheetResult r = runSheet(sheet.view(), small(2000));
-  EXPECT_EQ(r.crossed, 0u);
-  EXPECT_GT(r.stats.contacts, 1000u); // they really were thrown at it
+  const std::string sheet = bake(sheetMesh({0, 0, 0}, 1.0f), baker::NormalMode::kPotential, "sheet");
+  const SampleOutput out = runProgramSmall("thin_sheet", quoted(sheet) + " " + quoted(dir_.file("out")), 2000);
+  EXPECT_EQ(out.exit_code, 0) << out.text;
+  EXPECT_EQ(out.get("thin_sheet", "crossed"), 0);
+  EXPECT_GT(out.get("thin_sheet", "contacts"), 1000); // they really were thrown at it
   // The paper (§3.1): with normal-blur "the DN field will only work towards one direction" on a
   // zero-thickness object. The same scene on such a bake must show crossings: the measure can fail.
-  const File blurred = bake(testing::sheetMesh({0, 0, 0}, 1.0f), baker::NormalMode::kNormalBlur, "sheet_blur");
-  EXPECT_GT(runSheet(blurred.view(), small(2000)).crossed, 100u);
+  const std::string blurred = bake(sheetMesh({0, 0, 0}, 1.0f), baker::NormalMode::kNormalBlur, "sheet_blur");
+  const SampleOutput blurred_out =
+      runProgramSmall("thin_sheet", quoted(blurred) + " " + quoted(dir_.file("out")), 2000);
+  EXPECT_EQ(blurred_out.exit_code, 1) << blurred_out.text; // the sample says so in its exit code
+  EXPECT_GT(blurred_out.get("thin_sheet", "crossed"), 100);
 }
 
 TEST_F(BakedSamples, DemoLeavesNoParticleInsideTheMesh) {
-  const File sphere = bake(testing::sphereMesh({0, 0, 0}, 0.5f, 32, 16), baker::NormalMode::kNormalBlur, "ball");
-  const SceneStats stats = runDemo(sphere.view(), 2, small(2000));
-  EXPECT_EQ(stats.inside, 0u);
-  EXPECT_GT(stats.contacts, 0u);
+  const std::string ball = bake(sphereMesh({0, 0, 0}, 0.5f, 32, 16), baker::NormalMode::kNormalBlur, "ball");
+  const std::string positions = dir_.file("positions.txt");
+  const SampleOutput out =
+      runProgramSmall("demo", quoted(ball) + " " + quoted(dir_.file("out")) + " z " + quoted(positions), 2000);
+  EXPECT_EQ(out.exit_code, 0) << out.text;
+  EXPECT_EQ(out.get("demo", "inside"), 0);
+  EXPECT_GT(out.get("demo", "contacts"), 0);
   // The throughput the demo prints is a timing, not a test; what it is computed from is checked here.
-  EXPECT_EQ(stats.particles, std::size_t(2000 / 120 * 120)); // 120 spawning steps of 2000 / 120 each
-  EXPECT_EQ(stats.steps, 240);
+  EXPECT_EQ(out.get("demo", "particles"), 2000 / 120 * 120); // 120 raining steps of 2000 / 120 each
+  EXPECT_EQ(out.get("demo", "steps"), 240);
+  // POSITIONS: one "x y z" line per particle, for setup.sh demo's count on the triangles.
+  std::ifstream in(positions);
+  std::size_t lines = 0;
+  for (std::string line; std::getline(in, line);)
+    lines += std::count(line.begin(), line.end(), ' ') == 2 ? 1 : 0;
+  EXPECT_EQ(lines, std::size_t(2000 / 120 * 120));
 }
 #endif
 
 } // namespace
-} // namespace samples
+} // namespace testing
 } // namespace dng

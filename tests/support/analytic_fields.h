@@ -1,5 +1,5 @@
-// Analytic signed distance fields for samples, tests and benchmarks: exact distance and normal at any point,
-// and DenseFields sampled from them at voxel centres.
+// Analytic signed distance fields for the tests and the benchmarks: exact distance and normal at any
+// point, and DenseFields (the std-only writer's input) sampled from them at voxel centres.
 #pragma once
 
 #include "dng/format/dense_field.h"
