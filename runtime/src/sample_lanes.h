@@ -77,18 +77,33 @@ DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
   const M is_plane = kind == splatI(std::int32_t(format::TileKind::kPlane));
   const M is_far_inside = kind == splatI(std::int32_t(format::TileKind::kFarInside));
 
+  // Far tiles: +-band and no normal. A lane of far tiles only (the common case away from the
+  // surface) stops here.
+  const float band = g.band;
+  LaneVoxel v{select(is_far_inside, splat(-band), splat(band)), splat(0.0f, 0.0f, 0.0f)};
+  if (!any(is_brick | is_plane)) return v;
+
   // Bricks: the voxel's word in the pool.
   const I cell_mask = splatI((1 << s) - 1);
   const I local = shiftLeft(k & cell_mask, 2 * s) | shiftLeft(j & cell_mask, s) | (i & cell_mask);
   const I pool_index = shiftRight(lo32, 2) & splatI(std::int32_t(format::kMaxPoolBricks - 1));
   const I word = gather(ViewInternals::pool(view), shiftLeft(pool_index, 3 * s) + local, is_brick);
-  const float band = g.band, step = ViewInternals::rangeStep(view);
+  const float step = ViewInternals::rangeStep(view);
   const F lo = rangeLanes(hi32 & splatI(0xFFFF), band, step);
   const F hi = rangeLanes(shiftRight(hi32, 16), band, step);
   const I code = shiftRight(word, 2 * format::kWordOctBits);
   const F brick_step = (hi - lo) * splat(1.0f / float(format::kWordDistanceMax));
   const F brick_distance =
       select(code == splatI(std::int32_t(format::kWordDistanceMax)), hi, lo + toFloat(code) * brick_step);
+  const I word_mask = splatI((1 << format::kWordOctBits) - 1);
+  const F word_scale = splat(2.0f / float((1u << format::kWordOctBits) - 1));
+  if (!any(is_plane)) { // bricks and far tiles only: no plane to decode
+    v.distance = select(is_brick, brick_distance, v.distance);
+    v.normal = select(is_brick,
+                      octDecodeLanes(word & word_mask, shiftRight(word, format::kWordOctBits) & word_mask, word_scale),
+                      v.normal);
+    return v;
+  }
 
   // Planes: the tile's plane at the voxel centre, anchored at the tile centre.
   const float half = 0.5f * float(1 << s);
@@ -99,19 +114,15 @@ DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
                        toFloat(k) + centre - (toFloat(k & base) + tile_half)};
 
   // One octahedral decode for both: 11-bit codes in words, 15-bit codes in plane entries.
-  const I word_mask = splatI((1 << format::kWordOctBits) - 1), plane_mask = splatI((1 << format::kPlaneOctBits) - 1);
+  const I plane_mask = splatI((1 << format::kPlaneOctBits) - 1);
   const I qu = select(is_plane, shiftRight(lo32, 2) & plane_mask, word & word_mask);
   const I qv = select(is_plane, shiftRight(lo32, 2 + format::kPlaneOctBits) & plane_mask,
                       shiftRight(word, format::kWordOctBits) & word_mask);
-  const F scale = select(is_plane, splat(2.0f / float((1u << format::kPlaneOctBits) - 1)),
-                         splat(2.0f / float((1u << format::kWordOctBits) - 1)));
+  const F scale = select(is_plane, splat(2.0f / float((1u << format::kPlaneOctBits) - 1)), word_scale);
   const V3 n = octDecodeLanes(qu, qv, scale);
   const F plane_distance = asFloat(hi32) + splat(g.voxel_size) * dot(n, from_centre);
-
-  LaneVoxel v;
-  v.distance = select(is_brick, brick_distance,
-                      select(is_plane, plane_distance, select(is_far_inside, splat(-band), splat(band))));
-  v.normal = select(is_brick | is_plane, n, splat(0.0f, 0.0f, 0.0f));
+  v.distance = select(is_brick, brick_distance, select(is_plane, plane_distance, v.distance));
+  v.normal = select(is_brick | is_plane, n, v.normal);
   return v;
 }
 

@@ -87,9 +87,11 @@ DNG_LANE_INLINE M applyMaterial(const Material& m, M contact, F d, V3 n, float b
   return acted;
 }
 
-/// What the move needs from the response samples: per body, the sample at the start point.
+/// What the move needs from the responses: per body, the start point in its frame and the sample
+/// there (valid in the lanes the body's box holds).
 struct KeptLanes {
   LaneSample sample[kMaxBatchBodies];
+  V3 local[kMaxBatchBodies];
   M valid[kMaxBatchBodies];
 };
 
@@ -106,7 +108,8 @@ DNG_LANE_INLINE void respondLanes(const StepBatch& batch, LaneParticles* io, I* 
                  (p.y <= splat(hi.y)) & (p.z <= splat(hi.z));
     kept->valid[b] = in;
     if (!any(in)) continue;
-    const LaneSample s = sampleBody(sb, toLocal(sb.start, p), in);
+    kept->local[b] = toLocal(sb.start, p);
+    const LaneSample s = sampleBody(sb, kept->local[b], in);
     kept->sample[b] = s;
     const M contact = in & s.in_band;
     if (!any(contact)) continue;
@@ -167,14 +170,14 @@ DNG_LANE_INLINE F cellExit(const GridInfo& g, float inv_h, V3 a, V3 d, F t) {
   return exit;
 }
 
-// walkSegment (walk.cpp) through body `sb` for the lanes `near` it, as far as its cases that only
-// advance go: balls, cell planes that stay clear to the cell's wall, the end point's proof. Returns
-// the lanes it proves clear; every other near lane needs the scalar walk (a stop, a slide, a
-// neighbour bound, a clip at the grid's edge).
-DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 start, V3 end, const LaneSample* kept, M kept_valid, M near) {
+// walkSegment (walk.cpp) through body `sb` for the lanes `near` it, from `a` (the start in the body's
+// start-of-step frame) to `end` (world), as far as its cases that only advance go: balls, the two-ball
+// test, cell planes that stay clear to the cell's wall, the end point's proof. Returns the lanes it
+// proves clear; every other near lane needs the scalar walk (a stop, a slide, a neighbour bound, a
+// clip at the grid's edge, a walk out of samples).
+DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 a, V3 end, const LaneSample* kept, M kept_valid, M near) {
   const View& field = *sb.body->field();
   const GridInfo& g = field.grid();
-  const V3 a = toLocal(sb.start, start);
   const V3 delta = toLocal(sb.end, end) - a;
   const F len = length(delta);
   // The start sample: the response's where it kept one (the same numbers), else a new one.
@@ -248,7 +251,8 @@ DNG_LANE_INLINE M moveLanes(const StepBatch& batch, const LaneParticles& p, V3 e
     const M near = done & nearBounds(sb, p.position, end);
     if (!any(near)) continue;
     const bool has_kept = any(kept.valid[b]);
-    done = done & walkLanes(sb, p.position, end, has_kept ? &kept.sample[b] : nullptr,
+    const V3 a = has_kept ? kept.local[b] : toLocal(sb.start, p.position);
+    done = done & walkLanes(sb, a, end, has_kept ? &kept.sample[b] : nullptr,
                             has_kept ? kept.valid[b] : andNot(near, near), near);
   }
   return done;
