@@ -44,13 +44,23 @@ struct ChosenSet {
   InstructionSet before;
 };
 
-// The SIMD sets this machine can run: each is compared with the scalar path.
+// The SIMD sets this build and machine can run: each is compared with the scalar path.
 std::vector<InstructionSet> simdSets() {
+  const InstructionSet before = activeInstructionSet();
   std::vector<InstructionSet> out;
-  for (InstructionSet set : {InstructionSet::kSse41, InstructionSet::kAvx2}) {
-    if (set <= bestInstructionSet()) out.push_back(set);
+  for (InstructionSet set : {InstructionSet::kSse41, InstructionSet::kAvx2, InstructionSet::kNeon}) {
+    if (setInstructionSet(set) == Status::kOk) out.push_back(set);
   }
+  setInstructionSet(before);
   return out;
+}
+
+TEST(InstructionSet, TheBestSetIsChosenByDefault) {
+  EXPECT_EQ(setInstructionSet(bestInstructionSet()), Status::kOk);
+#if defined(__x86_64__) || defined(__aarch64__)
+  EXPECT_FALSE(simdSets().empty()) << "x86-64 always has SSE4.1 here, aarch64 NEON";
+  EXPECT_NE(bestInstructionSet(), InstructionSet::kScalar);
+#endif
 }
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }

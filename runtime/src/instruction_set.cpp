@@ -12,6 +12,9 @@ namespace dng {
 extern const BatchKernels kSse41Kernels;
 extern const BatchKernels kAvx2Kernels;
 #endif
+#if DNG_HAVE_NEON_KERNELS
+extern const BatchKernels kNeonKernels;
+#endif
 
 namespace {
 
@@ -21,6 +24,9 @@ bool supported(InstructionSet set) {
 #if DNG_HAVE_X86_KERNELS
   case InstructionSet::kSse41: return __builtin_cpu_supports("sse4.1");
   case InstructionSet::kAvx2: return __builtin_cpu_supports("avx2");
+#endif
+#if DNG_HAVE_NEON_KERNELS
+  case InstructionSet::kNeon: return true;
 #endif
   default: return false;
   }
@@ -32,7 +38,7 @@ std::atomic<int> g_active{-1};
 } // namespace
 
 InstructionSet bestInstructionSet() {
-  for (InstructionSet set : {InstructionSet::kAvx2, InstructionSet::kSse41}) {
+  for (InstructionSet set : {InstructionSet::kAvx2, InstructionSet::kSse41, InstructionSet::kNeon}) {
     if (supported(set)) return set;
   }
   return InstructionSet::kScalar;
@@ -60,6 +66,7 @@ const char* instructionSetName(InstructionSet set) {
   case InstructionSet::kScalar: return "scalar";
   case InstructionSet::kSse41: return "sse4.1";
   case InstructionSet::kAvx2: return "avx2";
+  case InstructionSet::kNeon: return "neon";
   }
   return "unknown";
 }
@@ -69,6 +76,9 @@ const BatchKernels* activeBatchKernels() {
 #if DNG_HAVE_X86_KERNELS
   case InstructionSet::kSse41: return &kSse41Kernels;
   case InstructionSet::kAvx2: return &kAvx2Kernels;
+#endif
+#if DNG_HAVE_NEON_KERNELS
+  case InstructionSet::kNeon: return &kNeonKernels;
 #endif
   default: return nullptr;
   }

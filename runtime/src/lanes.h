@@ -1,202 +1,32 @@
-// Internal: a small SIMD layer for the batch kernels, in the spirit of Jolt's Vec4/Vec8. One header
-// serves every instruction set: the translation unit that includes it defines DNG_LANES_AVX2 (8 lanes)
-// or DNG_LANES_SSE41 (4 lanes) and is compiled for that set (runtime/CMakeLists.txt). Each set gets its
-// own namespace, so the two builds of the kernels never meet at link time.
+// Internal: a small SIMD layer for the batch kernels, in the spirit of Jolt's Vec4/Vec8. One interface
+// serves every instruction set: the translation unit that includes this header defines
+// DNG_LANES_AVX2 (8 lanes), DNG_LANES_SSE41 (4 lanes) or DNG_LANES_NEON (4 lanes, aarch64) and is
+// compiled for that set (runtime/CMakeLists.txt). Each set gets its own namespace, so the builds of
+// the kernels never meet at link time.
 //
 // Every operation is the IEEE operation the scalar code uses (no FMA, no reciprocal estimates), so a
 // lane computes bit for bit what the scalar path computes for the same particle: the scalar code stays
 // the reference, and tests compare the two exactly.
+//
+// The interface: F (floats), I (32-bit integers), M (booleans) with arithmetic, comparisons, select,
+// masks, gathers; V3 below is written once on top of it.
 #pragma once
 
 #include <cstdint>
 
-#if defined(DNG_LANES_AVX2)
-#include <immintrin.h>
-#define DNG_LANES_NS avx2
-#elif defined(DNG_LANES_SSE41)
-#include <smmintrin.h>
-#define DNG_LANES_NS sse41
-#else
-#error "define DNG_LANES_AVX2 or DNG_LANES_SSE41 before including lanes.h"
-#endif
-
 #define DNG_LANE_INLINE inline __attribute__((always_inline))
+
+#if defined(DNG_LANES_AVX2) || defined(DNG_LANES_SSE41)
+#include "lanes_x86.h"
+#elif defined(DNG_LANES_NEON)
+#include "lanes_neon.h"
+#else
+#error "define DNG_LANES_AVX2, DNG_LANES_SSE41 or DNG_LANES_NEON before including lanes.h"
+#endif
 
 namespace dng {
 namespace lanes {
 namespace DNG_LANES_NS {
-
-#if defined(DNG_LANES_AVX2)
-constexpr int kWidth = 8;
-using RawF = __m256;
-using RawI = __m256i;
-#define DNG_PS(op) _mm256_##op##_ps
-#define DNG_EPI32(op) _mm256_##op##_epi32
-#define DNG_SI(op) _mm256_##op##_si256
-#define DNG_CAST_PS(x) _mm256_castsi256_ps(x)
-#define DNG_CVTT(x) _mm256_cvttps_epi32(x)
-#else
-constexpr int kWidth = 4;
-using RawF = __m128;
-using RawI = __m128i;
-#define DNG_PS(op) _mm_##op##_ps
-#define DNG_EPI32(op) _mm_##op##_epi32
-#define DNG_SI(op) _mm_##op##_si128
-#define DNG_CAST_PS(x) _mm_castsi128_ps(x)
-#define DNG_CVTT(x) _mm_cvttps_epi32(x)
-#endif
-
-/// Lanes of float.
-struct F {
-  RawF v;
-};
-/// Lanes of 32-bit integers (signed or unsigned by use).
-struct I {
-  RawI v;
-};
-/// Lanes of booleans: all bits set or clear, in a float register.
-struct M {
-  RawF v;
-};
-
-// ---- floats ----
-DNG_LANE_INLINE F splat(float x) { return {DNG_PS(set1)(x)}; }
-DNG_LANE_INLINE F load(const float* p) { return {DNG_PS(loadu)(p)}; }
-DNG_LANE_INLINE void store(float* p, F a) { DNG_PS(storeu)(p, a.v); }
-DNG_LANE_INLINE F operator+(F a, F b) { return {DNG_PS(add)(a.v, b.v)}; }
-DNG_LANE_INLINE F operator-(F a, F b) { return {DNG_PS(sub)(a.v, b.v)}; }
-DNG_LANE_INLINE F operator*(F a, F b) { return {DNG_PS(mul)(a.v, b.v)}; }
-DNG_LANE_INLINE F operator/(F a, F b) { return {DNG_PS(div)(a.v, b.v)}; }
-DNG_LANE_INLINE F sqrt(F a) { return {DNG_PS(sqrt)(a.v)}; }
-/// a < b ? a : b, exactly like dng::minOf (and std::min(b, a)), NaN included.
-DNG_LANE_INLINE F minOf(F a, F b) { return {DNG_PS(min)(a.v, b.v)}; }
-DNG_LANE_INLINE F maxOf(F a, F b) { return {DNG_PS(max)(a.v, b.v)}; }
-DNG_LANE_INLINE F floor(F a) { return {DNG_PS(floor)(a.v)}; }
-DNG_LANE_INLINE F abs(F a) { return {DNG_PS(andnot)(DNG_PS(set1)(-0.0f), a.v)}; }
-/// The magnitude of `mag` with the sign of `sign` (std::copysign).
-DNG_LANE_INLINE F copysign(F mag, F sign) {
-  const RawF bit = DNG_PS(set1)(-0.0f);
-  return {DNG_PS(or)(DNG_PS(andnot)(bit, mag.v), DNG_PS(and)(bit, sign.v))};
-}
-
-// ---- comparisons (ordered: false when either side is NaN) and masks ----
-#if defined(DNG_LANES_AVX2)
-DNG_LANE_INLINE M operator<(F a, F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
-DNG_LANE_INLINE M operator<=(F a, F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)}; }
-DNG_LANE_INLINE M operator>(F a, F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
-DNG_LANE_INLINE M operator>=(F a, F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GE_OQ)}; }
-DNG_LANE_INLINE M operator!=(F a, F b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ)}; }
-DNG_LANE_INLINE M allTrue() { return {_mm256_castsi256_ps(_mm256_set1_epi32(-1))}; }
-#else
-DNG_LANE_INLINE M operator<(F a, F b) { return {_mm_cmplt_ps(a.v, b.v)}; }
-DNG_LANE_INLINE M operator<=(F a, F b) { return {_mm_cmple_ps(a.v, b.v)}; }
-DNG_LANE_INLINE M operator>(F a, F b) { return {_mm_cmpgt_ps(a.v, b.v)}; }
-DNG_LANE_INLINE M operator>=(F a, F b) { return {_mm_cmpge_ps(a.v, b.v)}; }
-DNG_LANE_INLINE M operator!=(F a, F b) { return {_mm_cmpneq_ps(a.v, b.v)}; }
-DNG_LANE_INLINE M allTrue() { return {_mm_castsi128_ps(_mm_set1_epi32(-1))}; }
-#endif
-DNG_LANE_INLINE M operator&(M a, M b) { return {DNG_PS(and)(a.v, b.v)}; }
-DNG_LANE_INLINE M operator|(M a, M b) { return {DNG_PS(or)(a.v, b.v)}; }
-DNG_LANE_INLINE M operator~(M a) { return {DNG_PS(xor)(a.v, allTrue().v)}; }
-/// a and not b.
-DNG_LANE_INLINE M andNot(M a, M b) { return {DNG_PS(andnot)(b.v, a.v)}; }
-/// Bit n set when lane n is true.
-DNG_LANE_INLINE unsigned bits(M a) { return unsigned(DNG_PS(movemask)(a.v)); }
-DNG_LANE_INLINE bool any(M a) { return bits(a) != 0; }
-DNG_LANE_INLINE bool all(M a) { return bits(a) == (1u << kWidth) - 1; }
-/// m ? a : b per lane.
-DNG_LANE_INLINE F select(M m, F a, F b) { return {DNG_PS(blendv)(b.v, a.v, m.v)}; }
-DNG_LANE_INLINE M laneMask(unsigned lane_bits) {
-  alignas(32) std::int32_t b[kWidth];
-  for (int n = 0; n < kWidth; ++n)
-    b[n] = (lane_bits >> n) & 1u ? -1 : 0;
-  return {DNG_CAST_PS(DNG_SI(load)(reinterpret_cast<const RawI*>(b)))};
-}
-
-// ---- integers ----
-DNG_LANE_INLINE I splatI(std::int32_t x) { return {DNG_EPI32(set1)(x)}; }
-DNG_LANE_INLINE I operator+(I a, I b) { return {DNG_EPI32(add)(a.v, b.v)}; }
-DNG_LANE_INLINE I operator*(I a, I b) { return {DNG_EPI32(mullo)(a.v, b.v)}; }
-DNG_LANE_INLINE I operator&(I a, I b) { return {DNG_SI(and)(a.v, b.v)}; }
-DNG_LANE_INLINE I operator|(I a, I b) { return {DNG_SI(or)(a.v, b.v)}; }
-DNG_LANE_INLINE I shiftLeft(I a, int n) { return {DNG_EPI32(sll)(a.v, _mm_cvtsi32_si128(n))}; }
-DNG_LANE_INLINE I shiftRight(I a, int n) { return {DNG_EPI32(srl)(a.v, _mm_cvtsi32_si128(n))}; }
-DNG_LANE_INLINE M operator==(I a, I b) { return {DNG_CAST_PS(DNG_EPI32(cmpeq)(a.v, b.v))}; }
-/// float -> int32 by truncation, as a C++ cast of a value in [0, 2^31).
-DNG_LANE_INLINE I truncate(F a) { return {DNG_CVTT(a.v)}; }
-#if defined(DNG_LANES_AVX2)
-DNG_LANE_INLINE F toFloat(I a) { return {_mm256_cvtepi32_ps(a.v)}; }
-DNG_LANE_INLINE I select(M m, I a, I b) {
-  return {_mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(b.v), _mm256_castsi256_ps(a.v), m.v))};
-}
-#else
-DNG_LANE_INLINE F toFloat(I a) { return {_mm_cvtepi32_ps(a.v)}; }
-DNG_LANE_INLINE I select(M m, I a, I b) {
-  return {_mm_castps_si128(_mm_blendv_ps(_mm_castsi128_ps(b.v), _mm_castsi128_ps(a.v), m.v))};
-}
-#endif
-/// Reinterprets integer bits as floats (a float stored in a 32-bit word).
-DNG_LANE_INLINE F asFloat(I a) { return {DNG_CAST_PS(a.v)}; }
-
-// ---- gathers: lanes where `m` is false read nothing and give 0 ----
-#if defined(DNG_LANES_AVX2)
-DNG_LANE_INLINE F gather(const float* base, I index, M m) {
-  return {_mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, index.v, m.v, 4)};
-}
-DNG_LANE_INLINE I gather(const std::uint32_t* base, I index, M m) {
-  return {_mm256_mask_i32gather_epi32(_mm256_setzero_si256(), reinterpret_cast<const int*>(base), index.v,
-                                      _mm256_castps_si256(m.v), 4)};
-}
-/// 64-bit words, returned as their low and high halves.
-DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, I* out_hi) {
-  const auto* b = reinterpret_cast<const long long*>(base);
-  const __m256i mi = _mm256_castps_si256(m.v);
-  // Each 64-bit gather takes four lanes; its mask is the 32-bit mask widened.
-  const __m256i first = _mm256_mask_i32gather_epi64(_mm256_setzero_si256(), b, _mm256_castsi256_si128(index.v),
-                                                    _mm256_cvtepi32_epi64(_mm256_castsi256_si128(mi)), 8);
-  const __m256i second = _mm256_mask_i32gather_epi64(_mm256_setzero_si256(), b, _mm256_extracti128_si256(index.v, 1),
-                                                     _mm256_cvtepi32_epi64(_mm256_extracti128_si256(mi, 1)), 8);
-  // Even 32-bit words are low halves, odd ones high: sort each register into [lo x4 | hi x4].
-  const __m256i split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-  const __m256i a = _mm256_permutevar8x32_epi32(first, split);
-  const __m256i c = _mm256_permutevar8x32_epi32(second, split);
-  out_lo->v = _mm256_permute2x128_si256(a, c, 0x20);
-  out_hi->v = _mm256_permute2x128_si256(a, c, 0x31);
-}
-#else
-// SSE4.1 has no gather instruction: four scalar loads.
-DNG_LANE_INLINE F gather(const float* base, I index, M m) {
-  alignas(16) std::int32_t idx[4];
-  alignas(16) float out[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(idx), index.v);
-  const unsigned on = bits(m);
-  for (int n = 0; n < 4; ++n)
-    out[n] = (on >> n) & 1u ? base[idx[n]] : 0.0f;
-  return {_mm_load_ps(out)};
-}
-DNG_LANE_INLINE I gather(const std::uint32_t* base, I index, M m) {
-  alignas(16) std::int32_t idx[4];
-  alignas(16) std::uint32_t out[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(idx), index.v);
-  const unsigned on = bits(m);
-  for (int n = 0; n < 4; ++n)
-    out[n] = (on >> n) & 1u ? base[idx[n]] : 0u;
-  return {_mm_load_si128(reinterpret_cast<const __m128i*>(out))};
-}
-DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, I* out_hi) {
-  alignas(16) std::int32_t idx[4];
-  alignas(16) std::uint32_t lo[4], hi[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(idx), index.v);
-  const unsigned on = bits(m);
-  for (int n = 0; n < 4; ++n) {
-    const std::uint64_t word = (on >> n) & 1u ? base[idx[n]] : 0u;
-    lo[n] = std::uint32_t(word);
-    hi[n] = std::uint32_t(word >> 32);
-  }
-  out_lo->v = _mm_load_si128(reinterpret_cast<const __m128i*>(lo));
-  out_hi->v = _mm_load_si128(reinterpret_cast<const __m128i*>(hi));
-}
-#endif
 
 /// Three lanes of floats: a point or a vector per lane.
 struct V3 {
@@ -211,12 +41,6 @@ DNG_LANE_INLINE V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x 
 DNG_LANE_INLINE F length(V3 a) { return sqrt(dot(a, a)); }
 DNG_LANE_INLINE V3 select(M m, V3 a, V3 b) { return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)}; }
 DNG_LANE_INLINE V3 splat(float x, float y, float z) { return {splat(x), splat(y), splat(z)}; }
-
-#undef DNG_PS
-#undef DNG_EPI32
-#undef DNG_SI
-#undef DNG_CAST_PS
-#undef DNG_CVTT
 
 } // namespace DNG_LANES_NS
 } // namespace lanes

@@ -1,10 +1,10 @@
 // Which SIMD instruction set View::sampleBatch (nearest) and stepParticles use.
 //
-// The runtime carries its batch kernels for SSE4.1 (4 lanes) and AVX2 (8 lanes) on x86-64 and picks
-// the best one the CPU supports the first time it needs one. Every kernel gives bit for bit the
-// result of the scalar code, which stays the reference and the fallback (other CPUs, and the cases
-// the kernels hand back: docs/RUNTIME.md, "SIMD"). Choosing a set is for tests and benchmarks; the
-// results do not depend on it.
+// The runtime carries its batch kernels for SSE4.1 (4 lanes) and AVX2 (8 lanes) on x86-64, where it
+// picks the best one the CPU supports the first time it needs one, and for NEON (4 lanes) on aarch64. Every kernel
+// gives bit for bit the result of the scalar code, which stays the reference and the fallback (other CPUs, and the
+// cases the kernels hand back: docs/RUNTIME.md, "SIMD"). Choosing a set is for tests and benchmarks; the results do not
+// depend on it.
 #pragma once
 
 #include "dng/status.h"
@@ -17,6 +17,7 @@ enum class InstructionSet : std::uint32_t {
   kScalar = 0, ///< one particle at a time: the reference
   kSse41 = 1,  ///< x86-64 SSE4.1, 4 lanes
   kAvx2 = 2,   ///< x86-64 AVX2, 8 lanes
+  kNeon = 3,   ///< aarch64 Advanced SIMD, 4 lanes
 };
 
 /// The widest set this build carries and this CPU supports.
@@ -29,7 +30,7 @@ InstructionSet activeInstructionSet();
 /// set they started with). Fails with kInvalidArgument, changing nothing, when this build or CPU lacks it.
 Status setInstructionSet(InstructionSet set, Diagnostic* out_diag = nullptr);
 
-/// "scalar", "sse4.1" or "avx2".
+/// "scalar", "sse4.1", "avx2" or "neon".
 const char* instructionSetName(InstructionSet set);
 
 } // namespace dng
