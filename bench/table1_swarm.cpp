@@ -69,10 +69,12 @@ Swarm spawnNearSurface(const std::vector<Vec3f>& vertices, const std::vector<std
     }
     // Nothing else of the surface may be nearer than 90% of the push: then the point lies on the
     // outer side of its face, about that far from the mesh (a concave fold would put it elsewhere).
+    // And ray parity must say outside: where a mesh's parts overlap (scans decimated into
+    // self-intersections), a face's outer side can lie inside another part.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.size()), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t n = r.begin(); n != r.end(); ++n) {
         const reference::Closest closest = judge.closest(batch[n].p, batch[n].height);
-        batch[n].keep = closest.found && closest.distance >= 0.9f * batch[n].height;
+        batch[n].keep = closest.found && closest.distance >= 0.9f * batch[n].height && !judge.inside(batch[n].p);
       }
     });
     for (const Candidate& c : batch)

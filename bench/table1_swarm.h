@@ -41,8 +41,8 @@ struct Swarm {
 /// `count` spawn states near the surface of a mesh: a point on a random triangle (area-weighted)
 /// pushed out along the face normal (times `outward`: +1 when the faces point outwards, -1 when the
 /// mesh is wound inside out) by kSpawnNearVoxels..kSpawnFarVoxels,
-/// kept only where no other part of the surface is nearer (so the point is outside and really that
-/// far from the mesh), with a random velocity of up to kSpawnVoxelsPerStep. In random order, as an
+/// kept only where no other part of the surface is nearer (so the point is really that far from the
+/// mesh) and ray parity says outside, with a random velocity of up to kSpawnVoxelsPerStep. In random order, as an
 /// emitter produces them. Deterministic for a given seed.
 Swarm spawnNearSurface(const std::vector<Vec3f>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
                        const reference::MeshReference& judge, float voxel, float outward, std::size_t count,
