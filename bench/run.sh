@@ -12,8 +12,20 @@ for program in field_query_bench particle_step_bench bake_bench; do
   "$build/bench/$program" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
     --benchmark_report_aggregates_only=true --benchmark_format=json >"$build/$program.json"
 done
+# Table 1 (bench/table1_bench.cpp): fandisk with 100k and 1M particles, then the triangle-count sweep at
+# 100k on the extra meshes. Repetitions run in random order so that the shared machine's drift falls on
+# every method alike. About 10 minutes, most of it the 1M rows and baking the 871k-triangle dragon.
+echo "bench/run.sh: running table1_bench" >&2
+bash "$root/bench/fetch_table1_meshes.sh"
+meshes="$(dirname "$DNG_BENCH_MESH")" extra="$root/data/table1"
+"$build/bench/table1_bench" --table="$meshes/fandisk.off" --particles=100000,1000000 \
+  --sweep="$extra/cow.off,$extra/dragon_res4.off,$meshes/bunny00.off,$extra/dragon_res2.off,$extra/dragon.off" \
+  --sweep_particles=100000 --benchmark_min_time=0.2 --benchmark_repetitions=5 \
+  --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true \
+  --benchmark_format=json >"$build/table1_bench.json"
 python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle_step_bench.json" "$build/bake_bench.json" \
-  >"$root/docs/PERFORMANCE.md"
+  "$build/table1_bench.json" >"$root/docs/PERFORMANCE.md"
+gnuplot -e "data='$build/table1_bench_sweep.dat'; out='$root/docs/images/table1_sweep.png'" "$root/bench/table1_plot.gp"
 echo "bench/run.sh: running accuracy_bench" >&2
 "$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$root/docs/PERFORMANCE.md"
 echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2
