@@ -67,7 +67,9 @@ float neighbourBound(const View& field, float reach, Vec3f p) {
     u[axis] = (component(p, axis) - component(g.origin, axis)) * inv_h;
     cell[axis] = std::floor(u[axis]);
   }
-  float best = -reach;
+  Vec3f points[26];
+  float gaps2[26];
+  int count = 0;
   for (int n = 0; n < 27; ++n) {
     const int offset[3] = {n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1};
     if (n == 13) continue; // p's own cell
@@ -80,10 +82,19 @@ float neighbourBound(const View& field, float reach, Vec3f p) {
       component(q, axis) = component(g.origin, axis) + wall * h;
       gap2 += (u[axis] - wall) * (u[axis] - wall);
     }
-    const Sample s = field.sample(q);
+    points[count] = q;
+    gaps2[count++] = gap2;
+  }
+  // One batch: the SIMD kernels take the 26 samples in lanes (dng/instruction_set.h).
+  Sample samples[26];
+  static_assert(sizeof(Vec3f) == 3 * sizeof(float), "points are packed xyz");
+  field.sampleBatch(&points[0].x, sizeof(Vec3f), 26, samples);
+  float best = -reach;
+  for (int k = 0; k < 26; ++k) {
+    const Sample& s = samples[k];
     if (s.status == SampleStatus::kFarInside) continue;
     const float value = s.status == SampleStatus::kNoField ? reach : std::min(s.distance, reach);
-    best = std::max(best, value - std::sqrt(gap2) * h);
+    best = std::max(best, value - std::sqrt(gaps2[k]) * h);
   }
   return best;
 }
