@@ -80,6 +80,21 @@ void BM_Rebuild(benchmark::State& state) {
 }
 BENCHMARK(BM_Rebuild)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
+// What each stepParticles call with an index costs besides its particles: the arguments' checks and
+// the index's, O(bodies). Jobs of fewer particles pay it more often (docs/INTEGRATION.md, "Threads").
+void BM_CallOverhead(benchmark::State& state) {
+  const bench::City& c = city();
+  BodyIndex index;
+  index.rebuild(c.buildings.data(), c.buildings.size(), kCityDt);
+  bench::Raindrops one = c.rain;
+  for (auto _ : state) {
+    stepParticles(one.span(0, 1), kCityDt, c.buildings.data(), c.buildings.size(), index);
+    benchmark::ClobberMemory();
+  }
+  state.SetLabel("1 particle, 1,001 bodies");
+}
+BENCHMARK(BM_CallOverhead)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
 } // namespace
 
 BENCHMARK_MAIN();

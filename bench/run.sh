@@ -7,13 +7,13 @@ set -euo pipefail
 build="${1:?usage: bench/run.sh BUILD_DIR}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
 export DNG_BENCH_MESH="${DNG_BENCH_MESH:-$root/data/data/meshes/bunny00.off}"
-for program in field_query_bench particle_step_bench bake_bench; do
+for program in field_query_bench particle_step_bench many_bodies_bench threads_bench bake_bench; do
   echo "bench/run.sh: running $program" >&2
   "$build/bench/$program" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
     --benchmark_report_aggregates_only=true --benchmark_format=json >"$build/$program.json"
 done
 python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle_step_bench.json" "$build/bake_bench.json" \
-  >"$root/docs/PERFORMANCE.md"
+  "$build/many_bodies_bench.json" "$build/threads_bench.json" >"$root/docs/PERFORMANCE.md"
 echo "bench/run.sh: running accuracy_bench" >&2
 "$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$root/docs/PERFORMANCE.md"
 echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2
