@@ -26,17 +26,19 @@ float bodyTravel(const Body& body, float dt) {
 }
 
 // What the index reads of a body besides its field: transform and velocities (its box follows from the
-// field and the transform). Compared bit for bit, so a NaN velocity still matches itself.
+// field and the transform), as the floats' bits, so a NaN velocity still matches itself.
 constexpr std::size_t kStateFloats = 19;
-void stateOf(const Body& body, float* out) {
-  std::memcpy(out, body.rotation(), 9 * sizeof(float));
+void stateOf(const Body& body, std::uint32_t* out) {
+  float values[kStateFloats];
+  std::memcpy(values, body.rotation(), 9 * sizeof(float));
   const Vec3f vectors[3] = {body.translation(), body.linearVelocity(), body.angularVelocity()};
   for (int v = 0; v < 3; ++v) {
-    out[9 + 3 * v] = vectors[v].x;
-    out[10 + 3 * v] = vectors[v].y;
-    out[11 + 3 * v] = vectors[v].z;
+    values[9 + 3 * v] = vectors[v].x;
+    values[10 + 3 * v] = vectors[v].y;
+    values[11 + 3 * v] = vectors[v].z;
   }
-  out[18] = body.scale();
+  values[18] = body.scale();
+  std::memcpy(out, values, sizeof values);
 }
 
 // The grid aims at this many cells per body (fewer bodies per cell costs memory and build time, more
@@ -181,9 +183,13 @@ bool BodyIndex::Impl::matches(const Body* bodies, std::size_t body_count, std::s
     return false;
   }
   for (std::size_t b = 0; b < count; ++b) {
-    float state[kStateFloats];
+    std::uint32_t state[kStateFloats];
     stateOf(bodies[b], state);
-    if (bodies[b].field() != fields[b] || std::memcmp(state, &states[b * kStateFloats], sizeof state) != 0) {
+    const std::uint32_t* built_state = &states[b * kStateFloats];
+    std::uint32_t differ = 0;
+    for (std::size_t k = 0; k < kStateFloats; ++k)
+      differ |= state[k] ^ built_state[k];
+    if (differ != 0 || bodies[b].field() != fields[b]) {
       *out_changed = b;
       return false;
     }

@@ -58,7 +58,7 @@ struct BodyIndex::Impl {
   std::vector<BodyBoxes> boxes;
   // What the build read of each body, to tell a stale index (BodyState).
   std::vector<const View*> fields;
-  std::vector<float> states;
+  std::vector<std::uint32_t> states;
   // The grid: cells of edge 1 / inv_cell from origin, x fastest; cell c lists
   // cell_bodies[cell_start[c], cell_start[c + 1]), in increasing body index.
   float origin[3] = {0, 0, 0};
