@@ -26,19 +26,25 @@ float bodyTravel(const Body& body, float dt) {
 }
 
 // What the index reads of a body besides its field: transform and velocities (its box follows from the
-// field and the transform), as the floats' bits, so a NaN velocity still matches itself.
+// field and the transform), as the floats' bits, so a NaN velocity still matches itself. Calls
+// f(k, bits) for the kStateFloats values; inline, as every step call checks every body.
 constexpr std::size_t kStateFloats = 19;
-void stateOf(const Body& body, std::uint32_t* out) {
-  float values[kStateFloats];
-  std::memcpy(values, body.rotation(), 9 * sizeof(float));
+inline std::uint32_t bitsOf(float value) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+template <class F> inline void forEachState(const Body& body, F&& f) {
+  const float* r = body.rotation();
+  for (std::size_t k = 0; k < 9; ++k)
+    f(k, bitsOf(r[k]));
   const Vec3f vectors[3] = {body.translation(), body.linearVelocity(), body.angularVelocity()};
-  for (int v = 0; v < 3; ++v) {
-    values[9 + 3 * v] = vectors[v].x;
-    values[10 + 3 * v] = vectors[v].y;
-    values[11 + 3 * v] = vectors[v].z;
+  for (std::size_t v = 0; v < 3; ++v) {
+    f(9 + 3 * v, bitsOf(vectors[v].x));
+    f(10 + 3 * v, bitsOf(vectors[v].y));
+    f(11 + 3 * v, bitsOf(vectors[v].z));
   }
-  values[18] = body.scale();
-  std::memcpy(out, values, sizeof values);
+  f(18, bitsOf(body.scale()));
 }
 
 // The grid aims at this many cells per body (fewer bodies per cell costs memory and build time, more
@@ -126,7 +132,8 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   for (std::size_t b = 0; b < count; ++b) {
     motions[b] = motionOf(bodies[b], dt);
     fields[b] = bodies[b].field();
-    stateOf(bodies[b], &states[b * kStateFloats]);
+    std::uint32_t* state = &states[b * kStateFloats];
+    forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { state[k] = bits; });
     const float t = motions[b].travel;
     const Vec3f lo = bodies[b].boundsMin(), hi = bodies[b].boundsMax();
     boxes[b].box[int(BodyBox::kBounds)] = {lo, hi};
@@ -183,12 +190,9 @@ bool BodyIndex::Impl::matches(const Body* bodies, std::size_t body_count, std::s
     return false;
   }
   for (std::size_t b = 0; b < count; ++b) {
-    std::uint32_t state[kStateFloats];
-    stateOf(bodies[b], state);
     const std::uint32_t* built_state = &states[b * kStateFloats];
     std::uint32_t differ = 0;
-    for (std::size_t k = 0; k < kStateFloats; ++k)
-      differ |= state[k] ^ built_state[k];
+    forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { differ |= bits ^ built_state[k]; });
     if (differ != 0 || bodies[b].field() != fields[b]) {
       *out_changed = b;
       return false;
