@@ -28,13 +28,16 @@ struct Mode {
   std::size_t first, count; // bodies [first, first + count) of City::buildings (0 is the ground)
   bool folded;              // the raindrops folded onto building 0
   bool index;               // through a BodyIndex rebuilt every step (timed: engines pay it every frame)
+  bool sorted;              // the raindrops in lattice order instead of random order
 };
 const Mode kModes[] = {
-    {"ground alone (1 body)", 0, 1, false, false},
-    {"city: 1,000 buildings + ground, broadphase", 0, 1001, false, true},
-    {"city: 1,000 buildings + ground, every body per particle", 0, 1001, false, false},
-    {"building 0 alone (1 body), folded drops", 1, 1, true, false},
-    {"1,000 buildings, broadphase", 1, 1000, false, true},
+    {"ground alone (1 body)", 0, 1, false, false, false},
+    {"city: 1,000 buildings + ground, broadphase", 0, 1001, false, true, false},
+    {"city: 1,000 buildings + ground, every body per particle", 0, 1001, false, false, false},
+    {"building 0 alone (1 body), folded drops", 1, 1, true, false, false},
+    {"1,000 buildings, broadphase", 1, 1000, false, true, false},
+    {"building 0 alone (1 body), folded drops, lattice order", 1, 1, true, false, true},
+    {"1,000 buildings, broadphase, lattice order", 1, 1000, false, true, true},
 };
 
 // Argument: a row of kModes.
@@ -42,7 +45,8 @@ void BM_Rain(benchmark::State& state) {
   const bench::City& c = city();
   const Mode& mode = kModes[state.range(0)];
   const Body* bodies = c.buildings.data() + mode.first;
-  const bench::Raindrops& start = mode.folded ? c.folded : c.rain;
+  const bench::Raindrops& start =
+      mode.folded ? (mode.sorted ? c.folded_sorted : c.folded) : (mode.sorted ? c.rain_sorted : c.rain);
   bench::Raindrops rain = start;
   BodyIndex index;
   for (auto _ : state) {
@@ -62,7 +66,7 @@ void BM_Rain(benchmark::State& state) {
   state.SetLabel(mode.label);
   setPerParticle(state, rain.px.size());
 }
-BENCHMARK(BM_Rain)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Rain)->DenseRange(0, 6)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The per-frame rebuild alone, per body.
 void BM_Rebuild(benchmark::State& state) {

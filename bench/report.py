@@ -72,7 +72,7 @@ def bodies_section(path):
             for name, b in extra.items() if name.startswith("BM_Rain/")}
     print("\n## Many bodies (bench/many_bodies_bench.cpp)\n")
     print("A city (bench/city_scene.h, paper Fig. 8): 1,000 box buildings sharing one box field, each with its own "
-          "scale (4 to 8 wide, 8 to 16 tall) and turn, on a 40 x 25 lattice 14 units apart, on a ground slab (a "
+          "scale (4 to 8 wide, 8 to 16 tall) and turn, on a 40 x 25 lattice 20 units apart (no two buildings' grids overlap), on a ground slab (a "
           "second field); 100,000 raindrops anywhere up to 20 units high, falling at about 12 units/s, in random "
           "order. One step = `applyGravity` + `BodyIndex::rebuild` (the broadphase rows: an engine pays it every "
           "frame) + `stepParticles`; every iteration restarts from the same state.\n")
