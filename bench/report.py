@@ -75,10 +75,11 @@ def bodies_section(path):
           "scale (4 to 8 wide, 8 to 16 tall) and turn, on a 40 x 25 lattice 20 units apart (no two buildings' grids overlap), on a ground slab (a "
           "second field); 100,000 raindrops anywhere up to 20 units high, falling at about 12 units/s, in random "
           "order. One step = `applyGravity` + `BodyIndex::rebuild` (the broadphase rows: an engine pays it every "
-          "frame) + `stepParticles`; every iteration restarts from the same state.\n")
+          "frame) + `stepParticles`; every iteration restarts from the same state. Run of %s.\n"
+          % data["context"].get("date", "?"))
     print("| bodies | ns/particle | vs its 1-body baseline |")
     print("|---|---:|---:|")
-    base = {0: rows[0][0], 1: rows[0][0], 2: rows[0][0], 3: rows[3][0], 4: rows[3][0]}
+    base = {0: rows[0][0], 1: rows[0][0], 2: rows[0][0], 3: rows[3][0], 4: rows[3][0], 5: rows[5][0], 6: rows[5][0]}
     for k in sorted(rows):
         ns, label = rows[k]
         print("| %s | %.1f | %.2f |" % (label, ns, ns / base[k]))
@@ -91,24 +92,26 @@ def bodies_section(path):
     literal = rows[1][0] / rows[0][0]
     same_work = rows[4][0] / rows[3][0]
     print("\n**Goal (many bodies): 1,000 bodies at most 2x the per-particle cost of 1 body. Measured: %.2fx for the "
-          "city against the ground alone with the same raindrops (%s), %.2fx for the 1,000 buildings against "
-          "building 0 alone with the drops folded onto it (%s).** Against the ground alone most drops meet no field, "
-          "while among the buildings about two thirds are inside a building's box and sample it; folded onto one "
-          "building each drop samples the same local field, but in the city drops also pass the neighbouring "
-          "buildings' boxes, and the bodies' data no longer fits the first-level cache. Without the broadphase the "
-          "city costs %.0fx the ground alone."
-          % (literal, "reached" if literal <= 2.0 else "not reached", same_work,
-             "reached" if same_work <= 2.0 else "not reached", rows[2][0] / rows[0][0]))
+          "1,000 buildings against building 0 alone with the same field work per drop (%s); %.2fx for the city with "
+          "its ground against the ground alone with the same raindrops (%s).** Folded onto building 0 each drop "
+          "samples the same local field as in the city, so that ratio is what many bodies cost: the grid lookups, "
+          "and the bodies' data no longer in the first-level cache (drops in lattice order: %.2fx). Against the "
+          "ground alone a drop among the buildings also samples a building about a quarter of the time. Without the "
+          "broadphase the city costs %.0fx the ground alone."
+          % (same_work, "reached" if same_work <= 2.0 else "not reached", literal,
+             "reached" if literal <= 2.0 else "not reached", rows[6][0] / rows[5][0], rows[2][0] / rows[0][0]))
 
 
 def threads_section(path):
     _, m = medians(path, "per_particle")
     one, two = m["BM_Threads/1/real_time"][0], m["BM_Threads/2/real_time"][0]
     with open(path) as f:
-        cpus = json.load(f)["context"].get("num_cpus", 0)
+        context = json.load(f)["context"]
     print("\n## Threads (bench/threads_bench.cpp)\n")
     print("The city's step (above) through one shared `BodyIndex`: 1 thread on all 100,000 raindrops against 2 "
-          "threads on the two halves, each iteration starting and joining `std::thread`s (%d CPUs).\n" % cpus)
+          "threads on the two halves, each iteration starting and joining `std::thread`s (%d CPUs; run of %s). "
+          "On a machine whose cores other work shares, the second thread gets what is left of the second core.\n"
+          % (context.get("num_cpus", 0), context.get("date", "?")))
     print("| threads | ns/particle | speed-up |")
     print("|---|---:|---:|")
     print("| 1 | %.1f | 1.00 |" % one)
