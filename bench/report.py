@@ -75,7 +75,8 @@ def bodies_section(path):
           "scale (4 to 8 wide, 8 to 16 tall) and turn, on a 40 x 25 lattice 20 units apart (no two buildings' grids overlap), on a ground slab (a "
           "second field); 100,000 raindrops anywhere up to 20 units high, falling at about 12 units/s, in random "
           "order. One step = `applyGravity` + `BodyIndex::rebuild` (the broadphase rows: an engine pays it every "
-          "frame) + `stepParticles`; every iteration restarts from the same state. Run of %s.\n"
+          "frame) + `stepParticles`; every iteration restarts from the same state. Rows' repetitions interleaved; "
+          "run of %s.\n"
           % data["context"].get("date", "?"))
     print("| bodies | ns/particle | vs its 1-body baseline |")
     print("|---|---:|---:|")
@@ -109,7 +110,8 @@ def threads_section(path):
         context = json.load(f)["context"]
     print("\n## Threads (bench/threads_bench.cpp)\n")
     print("The city's step (above) through one shared `BodyIndex`: 1 thread on all 100,000 raindrops against 2 "
-          "threads on the two halves, each iteration starting and joining `std::thread`s (%d CPUs; run of %s). "
+          "threads on the two halves, each iteration starting and joining `std::thread`s (%d CPUs; repetitions "
+          "interleaved; run of %s). "
           "On a machine whose cores other work shares, the second thread gets what is left of the second core.\n"
           % (context.get("num_cpus", 0), context.get("date", "?")))
     print("| threads | ns/particle | speed-up |")

@@ -9,7 +9,12 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 export DNG_BENCH_MESH="${DNG_BENCH_MESH:-$root/data/data/meshes/bunny00.off}"
 for program in field_query_bench particle_step_bench many_bodies_bench threads_bench bake_bench; do
   echo "bench/run.sh: running $program" >&2
+  # The many-bodies and threads figures are ratios of rows: interleave the rows' repetitions so that
+  # other work on the machine weighs on baseline and candidate alike.
+  interleave=false
+  case "$program" in many_bodies_bench | threads_bench) interleave=true ;; esac
   "$build/bench/$program" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
+    --benchmark_enable_random_interleaving=$interleave \
     --benchmark_report_aggregates_only=true --benchmark_format=json >"$build/$program.json"
 done
 python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle_step_bench.json" "$build/bake_bench.json" \
