@@ -7,9 +7,14 @@ set -euo pipefail
 build="${1:?usage: bench/run.sh BUILD_DIR}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
 export DNG_BENCH_MESH="${DNG_BENCH_MESH:-$root/data/data/meshes/bunny00.off}"
-for program in field_query_bench particle_step_bench bake_bench; do
+for program in field_query_bench particle_step_bench many_bodies_bench threads_bench bake_bench; do
   echo "bench/run.sh: running $program" >&2
+  # The many-bodies and threads figures are ratios of rows: interleave the rows' repetitions so that
+  # other work on the machine weighs on baseline and candidate alike.
+  interleave=false
+  case "$program" in many_bodies_bench | threads_bench) interleave=true ;; esac
   "$build/bench/$program" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
+    --benchmark_enable_random_interleaving=$interleave \
     --benchmark_report_aggregates_only=true --benchmark_format=json >"$build/$program.json"
 done
 # Table 1 (bench/table1_bench.cpp): fandisk with 100k and 1M particles, then the triangle-count sweep at
@@ -24,7 +29,7 @@ meshes="$(dirname "$DNG_BENCH_MESH")" extra="$root/data/table1"
   --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true \
   --benchmark_format=json >"$build/table1_bench.json"
 python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle_step_bench.json" "$build/bake_bench.json" \
-  "$build/table1_bench.json" >"$root/docs/PERFORMANCE.md"
+  "$build/table1_bench.json" "$build/many_bodies_bench.json" "$build/threads_bench.json" >"$root/docs/PERFORMANCE.md"
 gnuplot -e "data='$build/table1_bench_sweep.dat'; out='$root/docs/images/table1_sweep.png'" "$root/bench/table1_plot.gp"
 echo "bench/run.sh: running accuracy_bench" >&2
 "$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$root/docs/PERFORMANCE.md"

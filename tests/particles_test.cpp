@@ -1,6 +1,7 @@
 // stepParticles end to end on analytic fields: no leaks at design speed, what swept mode buys,
 // transform invariance, moving bodies, strides, and refusing bad calls.
 #include "analytic_fields.h"
+#include "dng/body_index.h"
 #include "dng/forces.h"
 #include "dng/format/writer.h"
 #include "dng/particles.h"
@@ -310,9 +311,10 @@ ParticleSpan slice(Particles& p, std::size_t begin, std::size_t end) {
   return s;
 }
 
-// Eight threads share two fields (bricked and dense) and the bodies placed on them: each samples both
-// fields and steps its own part of one swarm for many steps, and everything ends exactly as one thread
-// doing all of it. Under ThreadSanitizer (bash setup.sh tsan) this is also the data-race check.
+// Eight threads share two fields (bricked and dense), the bodies placed on them and a broadphase over
+// the bodies: each samples both fields and steps its own part of one swarm for many steps, with the
+// broadphase or without, and everything ends exactly as one thread doing all of it. Under
+// ThreadSanitizer (bash setup.sh tsan) this is also the data-race check.
 TEST(Threads, EightThreadsSampleAndStepAgainstSharedFieldsAndBodies) {
   const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
   Field bricked(sphere);
@@ -325,15 +327,20 @@ TEST(Threads, EightThreadsSampleAndStepAgainstSharedFieldsAndBodies) {
                           makeBody(bricked.view, impactMaterial(true))};
   constexpr int kThreads = 8, kSteps = 40;
   const Particles start = thrownAt(sphere, 2.0f * kReachVoxels / kDt, 8 * 500, 5);
+  BodyIndex index; // rebuilt once: the bodies stay put
+  ASSERT_EQ(index.rebuild(bodies, 3, kDt), Status::kOk);
 
   // Steps particles [begin, end) and samples both fields at them after each step; returns the contacts
   // over all steps, or -1 when a call failed.
-  auto run = [&](Particles& p, std::size_t begin, std::size_t end, std::vector<Sample>* out_samples) {
+  auto run = [&](Particles& p, std::size_t begin, std::size_t end, std::vector<Sample>* out_samples,
+                 const BodyIndex* shared_index) {
     const ParticleSpan s = slice(p, begin, end);
     long contacts = 0;
     for (int step = 0; step < kSteps; ++step) {
       if (applyGravity(s, {0, 0, -9.81f}, kDt) != Status::kOk) return -1L;
-      if (stepParticles(s, kDt, bodies, 3) != Status::kOk) return -1L;
+      const Status stepped =
+          shared_index ? stepParticles(s, kDt, bodies, 3, *shared_index) : stepParticles(s, kDt, bodies, 3);
+      if (stepped != Status::kOk) return -1L;
       for (std::size_t n = begin; n < end; ++n) {
         contacts += p.contact[n];
         (*out_samples)[2 * n] = bricked.view.sample(p.position(n), Interpolation::kTrilinear);
@@ -344,26 +351,31 @@ TEST(Threads, EightThreadsSampleAndStepAgainstSharedFieldsAndBodies) {
   };
   Particles alone = start;
   std::vector<Sample> alone_samples(2 * start.size());
-  const long contacts = run(alone, 0, alone.size(), &alone_samples);
+  const long contacts = run(alone, 0, alone.size(), &alone_samples, nullptr);
   EXPECT_GT(contacts, 100) << "the particles hardly met the bodies: the test would show little";
 
-  Particles shared = start;
-  std::vector<Sample> shared_samples(2 * start.size());
-  std::vector<std::thread> threads;
-  std::vector<long> ok(kThreads, -1);
-  const std::size_t per_thread = start.size() / kThreads;
-  for (int t = 0; t < kThreads; ++t)
-    threads.emplace_back([&, t] { ok[t] = run(shared, t * per_thread, (t + 1) * per_thread, &shared_samples); });
-  for (std::thread& thread : threads)
-    thread.join();
-  for (int t = 0; t < kThreads; ++t)
-    EXPECT_GE(ok[t], 0) << "thread " << t;
-  for (std::size_t n = 0; n < start.size(); ++n) {
-    ASSERT_EQ(shared.px[n], alone.px[n]) << n;
-    ASSERT_EQ(shared.vz[n], alone.vz[n]) << n;
-    ASSERT_EQ(shared.body[n], alone.body[n]) << n;
-    ASSERT_EQ(shared_samples[2 * n].distance, alone_samples[2 * n].distance) << n;
-    ASSERT_EQ(shared_samples[2 * n + 1].distance, alone_samples[2 * n + 1].distance) << n;
+  for (const BodyIndex* shared_index :
+       {static_cast<const BodyIndex*>(nullptr), static_cast<const BodyIndex*>(&index)}) {
+    Particles shared = start;
+    std::vector<Sample> shared_samples(2 * start.size());
+    std::vector<std::thread> threads;
+    std::vector<long> ok(kThreads, -1);
+    const std::size_t per_thread = start.size() / kThreads;
+    for (int t = 0; t < kThreads; ++t)
+      threads.emplace_back(
+          [&, t] { ok[t] = run(shared, t * per_thread, (t + 1) * per_thread, &shared_samples, shared_index); });
+    for (std::thread& thread : threads)
+      thread.join();
+    const char* path = shared_index ? "with the index" : "without the index";
+    for (int t = 0; t < kThreads; ++t)
+      EXPECT_GE(ok[t], 0) << "thread " << t << ", " << path;
+    for (std::size_t n = 0; n < start.size(); ++n) {
+      ASSERT_EQ(shared.px[n], alone.px[n]) << n << ", " << path;
+      ASSERT_EQ(shared.vz[n], alone.vz[n]) << n << ", " << path;
+      ASSERT_EQ(shared.body[n], alone.body[n]) << n << ", " << path;
+      ASSERT_EQ(shared_samples[2 * n].distance, alone_samples[2 * n].distance) << n << ", " << path;
+      ASSERT_EQ(shared_samples[2 * n + 1].distance, alone_samples[2 * n + 1].distance) << n << ", " << path;
+    }
   }
 }
 

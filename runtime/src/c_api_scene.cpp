@@ -1,5 +1,6 @@
 // The C ABI's scenes (dng/dng.h): bodies by index, enable/disable and removal on top of dng::Body,
-// stepping through dng::stepParticles. Only dng_scene_create and dng_scene_add_body allocate.
+// stepping through dng::stepParticles with the scene's broadphase when it is fresh. Only
+// dng_scene_create, dng_scene_add_body and dng_scene_prepare_step allocate.
 #include "c_api_internal.h"
 
 #include <new>
@@ -31,6 +32,7 @@ dng::Body* bodyAt(dng_scene* scene, std::uint32_t index) {
 
 // Packs the enabled bodies. Never allocates: dng_scene_add_body reserved room for every body.
 void rebuildActive(dng_scene* scene) {
+  scene->index_fresh = false;
   scene->active.clear();
   scene->active_body.clear();
   for (std::uint32_t i = 0; i < scene->bodies.size(); ++i) {
@@ -43,6 +45,7 @@ void rebuildActive(dng_scene* scene) {
 
 // After a change to bodies[index]: the packed copy follows.
 void syncActive(dng_scene* scene, std::uint32_t index) {
+  scene->index_fresh = false;
   const std::int32_t slot = scene->active_slot[index];
   if (slot >= 0) scene->active[std::size_t(slot)] = scene->bodies[index];
 }
@@ -156,6 +159,14 @@ dng_status dng_scene_body_bounds(const dng_scene* scene, uint32_t body, float ou
   return DNG_OK;
 }
 
+dng_status dng_scene_prepare_step(dng_scene* scene, float dt, char* out_message, size_t capacity) {
+  if (scene == nullptr) return fail(dng::Status::kInvalidArgument, "scene must not be NULL", out_message, capacity);
+  dng::Diagnostic diag;
+  const dng::Status status = scene->index.rebuild(scene->active.data(), scene->active.size(), dt, &diag);
+  scene->index_fresh = status == dng::Status::kOk;
+  return report(status, diag, out_message, capacity);
+}
+
 // stepParticles numbers bodies by their place in the packed array; the caller gets scene indices.
 dng_status dng_scene_step(const dng_scene* scene, const dng_particles* p, float dt, char* out_message,
                           size_t capacity) {
@@ -165,7 +176,11 @@ dng_status dng_scene_step(const dng_scene* scene, const dng_particles* p, float 
                                p->velocity_x, p->velocity_y,  p->velocity_z, p->velocity_stride,
                                p->count,      p->out_contact, p->out_body};
   dng::Diagnostic diag;
-  const dng::Status status = dng::stepParticles(span, dt, scene->active.data(), scene->active.size(), &diag);
+  // The index serves only the dt it was built for; any other step tests every body, with the same results.
+  const bool indexed = scene->index_fresh && scene->index.dt() == dt;
+  const dng::Status status =
+      indexed ? dng::stepParticles(span, dt, scene->active.data(), scene->active.size(), scene->index, &diag)
+              : dng::stepParticles(span, dt, scene->active.data(), scene->active.size(), &diag);
   if (status == dng::Status::kOk && p->out_body != nullptr && scene->active.size() != scene->bodies.size()) {
     for (std::size_t n = 0; n < p->count; ++n) {
       if (p->out_body[n] >= 0) p->out_body[n] = std::int32_t(scene->active_body[std::size_t(p->out_body[n])]);

@@ -6,7 +6,9 @@
 // pose at the end (pose.h), by the conservative walk (walk.h). A blocked particle stops where the walk
 // proved the way clear, bounces off the blocking plane with the body's restitution, and slides the
 // rest of its step along that plane when the straight path to there is clear too.
+#include "broadphase.h"
 #include "diagnostic.h"
+#include "dng/body_index.h"
 #include "dng/particles.h"
 #include "dng/responses.h"
 #include "fast_math.h"
@@ -32,7 +34,8 @@ constexpr int kWalkSamples = 24;
 constexpr int kSweptWalkSamples = 256;
 int walkSamples(const Body& body) { return body.material().swept ? kSweptWalkSamples : kWalkSamples; }
 
-// Bodies whose first sample is kept from the response for the walk; more bodies sample twice.
+// Samples kept from the responses for the walk: those of the first bodies that hold the particle in
+// their boxes (rarely more than two or three); more bodies sample twice.
 constexpr std::size_t kKeptSamples = 8;
 
 struct ParticleState {
@@ -77,41 +80,29 @@ bool segmentNearBounds(const Body& body, Vec3f a, Vec3f b, float body_travel) {
   return true;
 }
 
-// How far any point of the body's box moves in dt: |v| dt plus |w| dt times the box's reach from
-// the body's origin.
-float bodyTravel(const Body& body, float dt) {
-  const Vec3f lo = body.boundsMin() - body.translation(), hi = body.boundsMax() - body.translation();
-  const Vec3f far{maxOf(std::fabs(lo.x), std::fabs(hi.x)), maxOf(std::fabs(lo.y), std::fabs(hi.y)),
-                  maxOf(std::fabs(lo.z), std::fabs(hi.z))};
-  return (length(body.linearVelocity()) + length(body.angularVelocity()) * length(far)) * dt;
-}
-
-// What a step needs of each body beyond the body itself: its pose at the end of the step and how far
-// its box moves meanwhile. The first kStored are computed once per call, the rest (large scenes) when
-// a particle comes near them, so a step never allocates.
-struct BodyMotion {
-  Pose end;
-  float travel = 0.0f;
-};
-
+// Each body's motion in the step (broadphase.h): all of them from the index when there is one;
+// else the first kStored are computed once per call, the rest (large scenes) when a particle comes
+// near them, so a step never allocates.
 class BodyMotions {
 public:
-  BodyMotions(const Body* bodies, std::size_t count, float dt) : bodies_(bodies), dt_(dt) {
-    for (std::size_t b = 0; b < count && b < kStored; ++b)
+  BodyMotions(const Body* bodies, std::size_t count, float dt, const BodyMotion* indexed)
+      : bodies_(bodies), dt_(dt), indexed_(indexed) {
+    for (std::size_t b = 0; indexed == nullptr && b < count && b < kStored; ++b)
       stored_[b] = motionOf(bodies[b], dt);
   }
-  /// Body b's motion: a stored one, or computed into *scratch.
+  /// Body b's motion: an indexed or stored one, or computed into *scratch.
   const BodyMotion& get(std::size_t b, BodyMotion* scratch) const {
+    if (indexed_ != nullptr) return indexed_[b];
     if (b < kStored) return stored_[b];
     *scratch = motionOf(bodies_[b], dt_);
     return *scratch;
   }
 
 private:
-  static BodyMotion motionOf(const Body& body, float dt) { return {poseAfter(body, dt), bodyTravel(body, dt)}; }
   static constexpr std::size_t kStored = 64;
   const Body* bodies_;
   float dt_;
+  const BodyMotion* indexed_;
   BodyMotion stored_[kStored];
 };
 
@@ -127,24 +118,31 @@ struct Touch {
   }
 };
 
-// The response samples, kept for the walk's first sample. Raw storage: a particle far from every body
-// keeps none, and should not pay for constructing them.
+// The response samples, kept for the walk's first sample (the walk starts where the response sampled,
+// so it would read the same answer again), by body index: in a large scene the particle's bodies may
+// have any index. Raw storage: a particle far from every body keeps none, and should not pay for
+// constructing them.
 class KeptSamples {
 public:
   void keep(std::size_t body, const Sample& s) {
-    if (body >= kKeptSamples) return;
-    std::memcpy(storage_ + body * sizeof(Sample), &s, sizeof(Sample));
-    valid_ |= 1u << body;
+    if (count_ == kKeptSamples) return;
+    body_[count_] = body;
+    std::memcpy(storage_ + count_ * sizeof(Sample), &s, sizeof(Sample));
+    ++count_;
   }
   bool find(std::size_t body, Sample* out) const {
-    if (body >= kKeptSamples || !(valid_ & (1u << body))) return false;
-    std::memcpy(out, storage_ + body * sizeof(Sample), sizeof(Sample));
-    return true;
+    for (std::size_t k = 0; k < count_; ++k) {
+      if (body_[k] != body) continue;
+      std::memcpy(out, storage_ + k * sizeof(Sample), sizeof(Sample));
+      return true;
+    }
+    return false;
   }
 
 private:
   alignas(Sample) unsigned char storage_[kKeptSamples * sizeof(Sample)];
-  std::uint32_t valid_ = 0;
+  std::size_t body_[kKeptSamples];
+  std::size_t count_ = 0;
 };
 
 // Samples one body at the particle and applies its material to the velocity relative to its surface.
@@ -174,15 +172,18 @@ struct Stop {
 };
 
 // Walks the world move start -> end through every colliding body near it, in each body's frame.
-Stop firstStop(const Body* bodies, std::size_t body_count, const BodyMotions& motions, Vec3f start, Vec3f end,
+Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start, Vec3f end,
                const KeptSamples* kept) {
   Stop first;
-  for (std::size_t b = 0; b < body_count; ++b) {
+  // The box segmentNearBounds tests, so the broadphase lists every body the test can pass.
+  const Vec3f lo{minOf(start.x, end.x), minOf(start.y, end.y), minOf(start.z, end.z)};
+  const Vec3f hi{maxOf(start.x, end.x), maxOf(start.y, end.y), maxOf(start.z, end.z)};
+  near.forEach(lo, hi, BodyBox::kGrown, [&](std::size_t b) {
     const Body& body = bodies[b];
-    if (!collides(body)) continue;
+    if (!collides(body)) return;
     BodyMotion scratch;
     const BodyMotion& motion = motions.get(b, &scratch);
-    if (!segmentNearBounds(body, start, end, motion.travel)) continue;
+    if (!segmentNearBounds(body, start, end, motion.travel)) return;
     const Vec3f a = body.toLocal(start);
     const Pose& end_pose = motion.end;
     const Vec3f delta = end_pose.toLocal(end) - a;
@@ -191,9 +192,9 @@ Stop firstStop(const Body* bodies, std::size_t body_count, const BodyMotions& mo
     Sample kept_sample;
     const bool reuse = kept != nullptr && kept->find(b, &kept_sample);
     const WalkResult walk = walkSegment(*body.field(), a, delta, reuse ? &kept_sample : nullptr, margin, samples);
-    if (walk.stop == WalkStop::kClear || walk.t >= first.t) continue;
+    if (walk.stop == WalkStop::kClear || walk.t >= first.t) return;
     first = {std::int32_t(b), walk.t, walk, end_pose.toWorld(a + delta * walk.t)};
-  }
+  });
   return first;
 }
 
@@ -212,11 +213,11 @@ Vec3f bounce(const Body& body, const Pose& end_pose, const Stop& stop, Vec3f vel
 }
 
 // Moves the particle by v dt without crossing any colliding body.
-void move(const Body* bodies, std::size_t body_count, const BodyMotions& motions, float dt, const KeptSamples& kept,
+void move(const Body* bodies, const NearBodies& near, const BodyMotions& motions, float dt, const KeptSamples& kept,
           ParticleState* io, Touch* io_touch) {
   const Vec3f start = io->position;
   const Vec3f end = start + io->velocity * dt;
-  const Stop stop = firstStop(bodies, body_count, motions, start, end, &kept);
+  const Stop stop = firstStop(bodies, near, motions, start, end, &kept);
   if (stop.body < 0) {
     io->position = end;
     return;
@@ -233,7 +234,7 @@ void move(const Body* bodies, std::size_t body_count, const BodyMotions& motions
   const Vec3f n = pose.rotateToWorld(stop.walk.normal);
   const Vec3f rest = (end - start) * (1.0f - stop.t);
   const Vec3f slid = stop.position + rest - n * minOf(dot(rest, n), 0.0f);
-  if (firstStop(bodies, body_count, motions, start, slid, nullptr).body < 0) io->position = slid;
+  if (firstStop(bodies, near, motions, start, slid, nullptr).body < 0) io->position = slid;
 }
 
 Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_t body_count, Diagnostic* diag) {
@@ -257,7 +258,7 @@ struct ScalarStep {
   const ParticleSpan* particles;
   float dt;
   const Body* bodies;
-  std::size_t body_count;
+  const NearBodies* near;
   const BodyMotions* motions;
 };
 
@@ -267,9 +268,9 @@ void stepOne(const void* context, std::size_t n) {
   ParticleState state = load(particles, n);
   Touch touch;
   KeptSamples kept;
-  for (std::size_t b = 0; b < step.body_count; ++b)
-    respondToBody(step.bodies[b], b, step.dt, &state, &touch, &kept);
-  move(step.bodies, step.body_count, *step.motions, step.dt, kept, &state, &touch);
+  step.near->forEach(state.position, state.position, BodyBox::kBounds,
+                     [&](std::size_t b) { respondToBody(step.bodies[b], b, step.dt, &state, &touch, &kept); });
+  move(step.bodies, *step.near, *step.motions, step.dt, kept, &state, &touch);
   store(particles, n, state);
   if (particles.out_contact != nullptr) particles.out_contact[n] = touch.body >= 0 ? 1 : 0;
   if (particles.out_body != nullptr) particles.out_body[n] = touch.body;
@@ -306,12 +307,9 @@ StepBody prepare(const Body& body, const BodyMotions& motions, std::size_t index
   return out;
 }
 
-} // namespace
-
-Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
-                     Diagnostic* out_diag) {
-  const Status status = checkStep(particles, dt, bodies, body_count, out_diag);
-  if (status != Status::kOk) return status;
+// The step over checked arguments; `index` (may be null) was built for these bodies and dt.
+Status step(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
+            const BodyIndex::Impl* index) {
   if (body_count == 0) { // nothing to collide with: integrate
     for (std::size_t n = 0; n < particles.count; ++n) {
       ParticleState state = load(particles, n);
@@ -322,8 +320,11 @@ Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies
     }
     return Status::kOk;
   }
-  const BodyMotions motions(bodies, body_count, dt);
-  const ScalarStep scalar{&particles, dt, bodies, body_count, &motions};
+  const BodyMotions motions(bodies, body_count, dt, index != nullptr ? index->motions.data() : nullptr);
+  const NearBodies near(body_count, index);
+  const ScalarStep scalar{&particles, dt, bodies, &near, &motions};
+  // The kernels test every body: with at most kMaxBatchBodies that is what the index would list, and
+  // the results are the same either way.
   if (const BatchKernels* kernels = kernelsFor(bodies, body_count)) {
     StepBody prepared[kMaxBatchBodies];
     for (std::size_t b = 0; b < body_count; ++b)
@@ -334,6 +335,34 @@ Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies
   for (std::size_t n = 0; n < particles.count; ++n)
     stepOne(&scalar, n);
   return Status::kOk;
+}
+
+} // namespace
+
+Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
+                     Diagnostic* out_diag) {
+  const Status status = checkStep(particles, dt, bodies, body_count, out_diag);
+  if (status != Status::kOk) return status;
+  return step(particles, dt, bodies, body_count, nullptr);
+}
+
+Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
+                     const BodyIndex& index, Diagnostic* out_diag) {
+  const Status status = checkStep(particles, dt, bodies, body_count, out_diag);
+  if (status != Status::kOk) return status;
+  if (!index.built()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "the body index is not built");
+  const BodyIndex::Impl& built = *index.impl_;
+  if (std::memcmp(&built.dt, &dt, sizeof dt) != 0)
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "the body index was built for dt %g, not %g",
+                           double(built.dt), double(dt));
+  if (body_count != built.count)
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "the body index was built for %zu bodies, not %zu",
+                           built.count, body_count);
+  std::size_t changed = 0;
+  if (!built.matches(bodies, body_count, &changed))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument,
+                           "the body index is stale: body %zu moved or changed velocity since its rebuild", changed);
+  return step(particles, dt, bodies, body_count, &built);
 }
 
 } // namespace dng

@@ -2,8 +2,9 @@
  *
  * Plain C89-compatible declarations: opaque handles, fixed-width integers and size_t only, a status
  * code on every call that can fail plus an optional message buffer the caller supplies. Nothing here
- * throws, aborts or allocates except the create/open calls and dng_scene_add_body. Thread safety: a dng_field may be
- * sampled from any number of threads; a dng_scene must not be changed while it is being stepped.
+ * throws, aborts or allocates except the create/open calls, dng_scene_add_body and dng_scene_prepare_step.
+ * Thread safety: a dng_field may be sampled from any number of threads; a dng_scene may be stepped by
+ * any number of threads at once (disjoint particles) but must not be changed meanwhile.
  *
  * Check at start-up that the library matches the header you compiled against:
  *   if (!dng_version_compatible(DNG_VERSION)) { ... }
@@ -212,8 +213,17 @@ typedef struct dng_particles {
   int32_t* out_body;
 } dng_particles;
 
+/** Builds the scene's broadphase (dng::BodyIndex) for steps of dt seconds, so that dng_scene_step
+ *  tests each particle only against the bodies near it. Call it once per frame after placing the bodies
+ *  and before stepping (on one thread, before the step fans out). It stays in use until the scene
+ *  changes (any set_*, add, remove or enable call) or a step asks for another dt; meanwhile steps test
+ *  every enabled body, with the same results. May allocate: DNG_OUT_OF_MEMORY; DNG_INVALID_ARGUMENT for
+ *  a NULL scene or dt not finite and > 0. */
+DNG_API dng_status dng_scene_prepare_step(dng_scene* scene, float dt, char* out_message, size_t message_capacity);
+
 /** One step of dt seconds for every particle against every enabled body of the scene
- *  (dng::stepParticles). out_body receives scene body indices. */
+ *  (dng::stepParticles), through the broadphase when dng_scene_prepare_step built it for this scene
+ *  and dt. out_body receives scene body indices. */
 DNG_API dng_status dng_scene_step(const dng_scene* scene, const dng_particles* particles, float dt, char* out_message,
                                   size_t message_capacity);
 

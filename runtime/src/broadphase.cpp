@@ -1,0 +1,251 @@
+// The broadphase (dng/body_index.h): a uniform grid of cells, each listing the bodies whose world box,
+// grown by the body's travel in dt, touches it. Why a grid and not a tree: a particle's query is one
+// cell (its move rarely leaves the cell), found with three multiplies, and the cell's list is already
+// in the body order the step must visit bodies in; a tree would need a traversal and a sort per query.
+#include "broadphase.h"
+#include "diagnostic.h"
+#include "fast_math.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <new>
+
+namespace dng {
+
+namespace {
+
+// How far any point of the body's box moves in dt: |v| dt plus |w| dt times the box's reach from the
+// body's origin.
+float bodyTravel(const Body& body, float dt) {
+  const Vec3f lo = body.boundsMin() - body.translation(), hi = body.boundsMax() - body.translation();
+  const Vec3f far{maxOf(std::fabs(lo.x), std::fabs(hi.x)), maxOf(std::fabs(lo.y), std::fabs(hi.y)),
+                  maxOf(std::fabs(lo.z), std::fabs(hi.z))};
+  return (length(body.linearVelocity()) + length(body.angularVelocity()) * length(far)) * dt;
+}
+
+// What the index reads of a body besides its field: transform and velocities (its box follows from the
+// field and the transform), as the floats' bits, so a NaN velocity still matches itself. Calls
+// f(k, bits) for the kStateFloats values; inline, as every step call checks every body.
+constexpr std::size_t kStateFloats = 19;
+inline std::uint32_t bitsOf(float value) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+template <class F> inline void forEachState(const Body& body, F&& f) {
+  const float* r = body.rotation();
+  for (std::size_t k = 0; k < 9; ++k)
+    f(k, bitsOf(r[k]));
+  const Vec3f vectors[3] = {body.translation(), body.linearVelocity(), body.angularVelocity()};
+  for (std::size_t v = 0; v < 3; ++v) {
+    f(9 + 3 * v, bitsOf(vectors[v].x));
+    f(10 + 3 * v, bitsOf(vectors[v].y));
+    f(11 + 3 * v, bitsOf(vectors[v].z));
+  }
+  f(18, bitsOf(body.scale()));
+}
+
+// The grid aims at this many cells per body (fewer bodies per cell costs memory and build time, more
+// costs box tests per particle), at most kMaxDim cells along an axis, and gives up resolution when
+// bodies would be entered too many times (large bodies overlapping many small cells).
+constexpr double kCellsPerBody = 4.0;
+constexpr std::uint32_t kMaxDim = 1024;
+constexpr double kEntriesPerCellOrBody = 8.0;
+
+bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// A cubic cell edge giving about kCellsPerBody cells per body over the scene box, counted only over
+// the axes the box really extends along: a flat city gets one layer of wide cells, not many thin ones.
+double cellEdge(const double extent[3], std::size_t bodies) {
+  const double target = kCellsPerBody * double(bodies);
+  bool thin[3] = {false, false, false};
+  double edge = 0.0;
+  for (int round = 0; round < 3; ++round) {
+    double product = 1.0;
+    int axes = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (!thin[a]) product *= extent[a], ++axes;
+    }
+    if (axes == 0) break;
+    edge = std::pow(product / target, 1.0 / axes);
+    bool changed = false;
+    for (int a = 0; a < 3; ++a) {
+      if (!thin[a] && extent[a] <= edge) thin[a] = changed = true;
+    }
+    if (!changed) break;
+  }
+  const double longest = std::max(extent[0], std::max(extent[1], extent[2]));
+  edge = std::max(edge, longest / kMaxDim);
+  return edge > 0.0 && std::isfinite(edge) ? edge : std::max(longest, 1.0);
+}
+
+} // namespace
+
+BodyMotion motionOf(const Body& body, float dt) { return {poseAfter(body, dt), bodyTravel(body, dt)}; }
+
+// ---- The grid ----
+
+namespace {
+
+// The cells a box touches, per axis.
+struct CellRange {
+  std::uint32_t lo[3], hi[3];
+  std::uint64_t cells() const { return std::uint64_t(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1); }
+};
+
+CellRange cellRange(const BodyIndex::Impl& grid, const Box& box) {
+  const float lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+  CellRange r;
+  for (int a = 0; a < 3; ++a)
+    r.lo[a] = grid.cellOf(lo[a], a), r.hi[a] = grid.cellOf(hi[a], a);
+  return r;
+}
+
+// Cells of `edge` from the scene box's low corner, as many as cover it (at most kMaxDim per axis).
+void setCells(BodyIndex::Impl* grid, const double extent[3], double edge) {
+  grid->inv_cell = float(1.0 / edge);
+  for (int a = 0; a < 3; ++a) {
+    grid->dims[a] = std::uint32_t(std::min(std::max(std::ceil(extent[a] / edge), 1.0), double(kMaxDim)));
+    grid->last_cell[a] = float(grid->dims[a] - 1);
+  }
+}
+
+} // namespace
+
+void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float step_dt) {
+  built = false;
+  count = body_count;
+  dt = step_dt;
+  motions.resize(count);
+  boxes.resize(count);
+  fields.resize(count);
+  states.resize(count * kStateFloats);
+  everywhere.clear();
+  // Each body's boxes, the grown one exactly as the step grows it: the corners minus and plus the travel.
+  std::vector<std::uint32_t> boxed; // bodies with a finite grown box
+  boxed.reserve(count);
+  const float inf = std::numeric_limits<float>::infinity();
+  scene_lo = {inf, inf, inf};
+  scene_hi = {-inf, -inf, -inf};
+  for (std::size_t b = 0; b < count; ++b) {
+    motions[b] = motionOf(bodies[b], dt);
+    fields[b] = bodies[b].field();
+    std::uint32_t* state = &states[b * kStateFloats];
+    forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { state[k] = bits; });
+    const float t = motions[b].travel;
+    const Vec3f lo = bodies[b].boundsMin(), hi = bodies[b].boundsMax();
+    boxes[b].box[int(BodyBox::kBounds)] = {lo, hi};
+    const Box grown{{lo.x - t, lo.y - t, lo.z - t}, {hi.x + t, hi.y + t, hi.z + t}};
+    boxes[b].box[int(BodyBox::kGrown)] = grown;
+    if (!finite(grown.lo) || !finite(grown.hi)) {
+      everywhere.push_back(std::uint32_t(b));
+      continue;
+    }
+    boxed.push_back(std::uint32_t(b));
+    scene_lo = {minOf(scene_lo.x, grown.lo.x), minOf(scene_lo.y, grown.lo.y), minOf(scene_lo.z, grown.lo.z)};
+    scene_hi = {maxOf(scene_hi.x, grown.hi.x), maxOf(scene_hi.y, grown.hi.y), maxOf(scene_hi.z, grown.hi.z)};
+  }
+  const bool any = !boxed.empty();
+  const double extent[3] = {any ? double(scene_hi.x) - scene_lo.x : 0.0, any ? double(scene_hi.y) - scene_lo.y : 0.0,
+                            any ? double(scene_hi.z) - scene_lo.z : 0.0};
+  origin[0] = any ? scene_lo.x : 0.0f, origin[1] = any ? scene_lo.y : 0.0f, origin[2] = any ? scene_lo.z : 0.0f;
+  auto grownBox = [&](std::uint32_t b) -> const Box& { return boxes[b].box[int(BodyBox::kGrown)]; };
+  // Coarsen until the entries fit the budget; one cell always does.
+  double edge = cellEdge(extent, std::max<std::size_t>(boxed.size(), 1));
+  for (;;) {
+    setCells(this, extent, edge);
+    const std::uint64_t cells = std::uint64_t(dims[0]) * dims[1] * dims[2];
+    std::uint64_t entries = 0;
+    for (std::uint32_t b : boxed)
+      entries += cellRange(*this, grownBox(b)).cells();
+    if (cells == 1 || double(entries) <= kEntriesPerCellOrBody * double(cells + boxed.size())) break;
+    edge *= 1.5;
+  }
+  // Counting sort into the cells, bodies in increasing index: every cell's list comes out sorted.
+  const std::size_t cells = std::size_t(dims[0]) * dims[1] * dims[2];
+  cell_start.assign(cells + 1, 0);
+  auto forEachCell = [&](std::uint32_t b, auto&& f) {
+    const CellRange r = cellRange(*this, grownBox(b));
+    for (std::uint32_t z = r.lo[2]; z <= r.hi[2]; ++z)
+      for (std::uint32_t y = r.lo[1]; y <= r.hi[1]; ++y)
+        for (std::uint32_t x = r.lo[0]; x <= r.hi[0]; ++x)
+          f(cellIndex(x, y, z));
+  };
+  for (std::uint32_t b : boxed)
+    forEachCell(b, [&](std::size_t c) { ++cell_start[c + 1]; });
+  for (std::size_t c = 0; c < cells; ++c)
+    cell_start[c + 1] += cell_start[c];
+  cell_bodies.resize(cell_start[cells]);
+  std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
+  for (std::uint32_t b : boxed)
+    forEachCell(b, [&](std::size_t c) { cell_bodies[fill[c]++] = b; });
+  built = true;
+}
+
+bool BodyIndex::Impl::matches(const Body* bodies, std::size_t body_count, std::size_t* out_changed) const {
+  if (body_count != count) {
+    *out_changed = body_count;
+    return false;
+  }
+  for (std::size_t b = 0; b < count; ++b) {
+    const std::uint32_t* built_state = &states[b * kStateFloats];
+    std::uint32_t differ = 0;
+    forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { differ |= bits ^ built_state[k]; });
+    if (differ != 0 || bodies[b].field() != fields[b]) {
+      *out_changed = b;
+      return false;
+    }
+  }
+  return true;
+}
+
+// ---- BodyIndex ----
+
+BodyIndex::BodyIndex() = default;
+BodyIndex::~BodyIndex() = default;
+BodyIndex::BodyIndex(BodyIndex&&) noexcept = default;
+BodyIndex& BodyIndex::operator=(BodyIndex&&) noexcept = default;
+
+Status BodyIndex::rebuild(const Body* bodies, std::size_t count, float dt, Diagnostic* out_diag) {
+  if (impl_ != nullptr) impl_->built = false;
+  if (!(dt > 0.0f) || !std::isfinite(dt))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "dt must be finite and > 0, got %g", double(dt));
+  if (count > 0 && bodies == nullptr)
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "bodies is null but count is %zu", count);
+  if (count >= (std::size_t(1) << 31))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "%zu bodies is too many for an index", count);
+  for (std::size_t b = 0; b < count; ++b) {
+    if (!bodies[b].valid()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "body %zu is not valid", b);
+  }
+  try {
+    if (impl_ == nullptr) impl_.reset(new Impl);
+    impl_->build(bodies, count, dt);
+  } catch (const std::bad_alloc&) {
+    if (impl_ != nullptr) impl_->built = false;
+    return writeDiagnostic(out_diag, Status::kOutOfMemory, "out of memory building an index of %zu bodies", count);
+  }
+  return Status::kOk;
+}
+
+bool BodyIndex::built() const { return impl_ != nullptr && impl_->built; }
+std::size_t BodyIndex::bodyCount() const { return built() ? impl_->count : 0; }
+float BodyIndex::dt() const { return built() ? impl_->dt : 0.0f; }
+
+void BodyIndex::cellDims(std::uint32_t out_dims[3]) const {
+  for (int a = 0; a < 3; ++a)
+    out_dims[a] = built() ? impl_->dims[a] : 0;
+}
+
+std::size_t BodyIndex::bodiesNear(Vec3f lo, Vec3f hi, std::uint32_t* out, std::size_t capacity) const {
+  if (!built()) return 0;
+  std::size_t found = 0;
+  NearBodies(impl_->count, impl_.get()).forEach(lo, hi, BodyBox::kGrown, [&](std::size_t b) {
+    if (found < capacity) out[found] = std::uint32_t(b);
+    ++found;
+  });
+  return found;
+}
+
+} // namespace dng

@@ -1,0 +1,196 @@
+// Internal: the uniform grid behind dng::BodyIndex, and the loop over bodies that stepParticles runs
+// with it or without it.
+//
+// Exactness: the step visits bodies in increasing index order and applies its own tests (the particle
+// in the body's box, the move's box against the body's box grown by its travel) to each, so the index
+// may skip only bodies those tests reject. The grid lists a superset of the rest: a body is entered
+// in every cell its grown box touches, a query takes every cell its box touches, and both go through
+// one monotone function from coordinate to cell, so boxes that overlap always share a cell. Then the
+// index drops listed bodies by the same comparisons on the same floats as the step's tests (copies of
+// the boxes, packed so that a query reads 24 bytes per listed body instead of the whole Body).
+#pragma once
+
+#include "dng/body_index.h"
+#include "pose.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace dng {
+
+/// What a step needs of each body beyond the body itself: its pose at the end of the step and how far
+/// any point of its box moves meanwhile. Out of line, in one place, so the step and the index compute
+/// the same bits whatever the compiler inlines where.
+struct BodyMotion {
+  Pose end;
+  float travel = 0.0f;
+};
+BodyMotion motionOf(const Body& body, float dt);
+
+/// The sorted body lists a query box reads, or `all` when it must test every body.
+struct CandidateLists {
+  /// One cell per axis and a neighbour (2 x 2 x 2) plus the bodies listed everywhere. A box over more
+  /// cells is a long move: it tests every body, as without an index.
+  static constexpr int kMaxLists = 9;
+  const std::uint32_t* begin[kMaxLists];
+  const std::uint32_t* end[kMaxLists];
+  int count = 0;
+  bool all = false;
+};
+
+/// A world box; `which` of a body's boxes a query tests against.
+struct Box {
+  Vec3f lo, hi;
+};
+enum class BodyBox { kBounds = 0, kGrown = 1 };
+/// A body's two boxes in one cache line: a particle's response reads one, its move the other.
+struct alignas(64) BodyBoxes {
+  Box box[2]; // by BodyBox
+};
+
+struct BodyIndex::Impl {
+  bool built = false;
+  std::size_t count = 0;
+  float dt = 0.0f;
+  std::vector<BodyMotion> motions; // per body
+  // Per body: its world box (Body::boundsMin/Max), and that box grown by the motion's travel as the step
+  // grows it.
+  std::vector<BodyBoxes> boxes;
+  // What the build read of each body, to tell a stale index (BodyState).
+  std::vector<const View*> fields;
+  std::vector<std::uint32_t> states;
+  // The grid: cells of edge 1 / inv_cell from origin, x fastest; cell c lists
+  // cell_bodies[cell_start[c], cell_start[c + 1]), in increasing body index.
+  float origin[3] = {0, 0, 0};
+  float inv_cell = 1.0f;
+  float last_cell[3] = {0, 0, 0}; // dims - 1, as floats for the clamp
+  std::uint32_t dims[3] = {0, 0, 0};
+  // The union of the finite grown boxes; empty (lo > hi) when there is none.
+  Vec3f scene_lo, scene_hi;
+  std::vector<std::uint32_t> cell_start;
+  std::vector<std::uint32_t> cell_bodies;
+  std::vector<std::uint32_t> everywhere; // bodies whose grown box is not finite (a NaN or huge velocity)
+
+  void build(const Body* bodies, std::size_t body_count, float step_dt);
+
+  /// Coordinate -> cell along `axis`, clamped to the grid. Monotone in x (a subtraction and a
+  /// multiplication by a positive number, each rounded once, then clamps), which is all exactness
+  /// needs: the build and every query call this one function.
+  std::uint32_t cellOf(float x, int axis) const {
+    float t = (x - origin[axis]) * inv_cell;
+    t = t > 0.0f ? t : 0.0f;
+    t = t < last_cell[axis] ? t : last_cell[axis];
+    return std::uint32_t(t);
+  }
+  std::size_t cellIndex(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
+    return (std::size_t(z) * dims[1] + y) * dims[0] + x;
+  }
+
+  /// The lists for the world box [lo, hi] (lo <= hi per axis, or NaN somewhere).
+  void listsFor(Vec3f lo, Vec3f hi, CandidateLists* out) const {
+    out->count = 0;
+    out->all = false;
+    if (!(hi.x >= scene_lo.x && hi.y >= scene_lo.y && hi.z >= scene_lo.z && lo.x <= scene_hi.x && lo.y <= scene_hi.y &&
+          lo.z <= scene_hi.z)) {
+      // Outside every finite box, the cheap answer for far particles; or NaN: every body.
+      if (lo.x != lo.x || lo.y != lo.y || lo.z != lo.z || hi.x != hi.x || hi.y != hi.y || hi.z != hi.z) {
+        out->all = true;
+        return;
+      }
+      addEverywhere(out);
+      return;
+    }
+    addEverywhere(out);
+    const std::uint32_t x0 = cellOf(lo.x, 0), y0 = cellOf(lo.y, 1), z0 = cellOf(lo.z, 2);
+    const std::uint32_t x1 = cellOf(hi.x, 0), y1 = cellOf(hi.y, 1), z1 = cellOf(hi.z, 2);
+    if (x0 == x1 && y0 == y1 && z0 == z1) { // the common case: one cell
+      addCell(cellIndex(x0, y0, z0), out);
+      return;
+    }
+    const std::uint64_t cells = std::uint64_t(x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1);
+    if (cells > std::uint64_t(CandidateLists::kMaxLists - out->count)) {
+      out->all = true;
+      return;
+    }
+    for (std::uint32_t z = z0; z <= z1; ++z)
+      for (std::uint32_t y = y0; y <= y1; ++y)
+        for (std::uint32_t x = x0; x <= x1; ++x)
+          addCell(cellIndex(x, y, z), out);
+  }
+  void addEverywhere(CandidateLists* out) const {
+    if (everywhere.empty()) return;
+    out->begin[out->count] = everywhere.data();
+    out->end[out->count++] = everywhere.data() + everywhere.size();
+  }
+  void addCell(std::size_t c, CandidateLists* out) const {
+    if (cell_start[c] == cell_start[c + 1]) return;
+    out->begin[out->count] = cell_bodies.data() + cell_start[c];
+    out->end[out->count++] = cell_bodies.data() + cell_start[c + 1];
+  }
+
+  /// Whether `bodies` are still what the build saw; else the first body that changed, or count when
+  /// the count differs.
+  bool matches(const Body* bodies, std::size_t body_count, std::size_t* out_changed) const;
+};
+
+/// The bodies a step visits: all of them in order, or the index's candidates in order.
+class NearBodies {
+public:
+  NearBodies(std::size_t count, const BodyIndex::Impl* index) : count_(count), index_(index) {}
+
+  /// Calls f(b), in increasing b, for each body b whose box `which` may overlap the world box
+  /// [lo, hi]: every body without an index; with one, only those whose box passes the step's own test
+  /// (kBounds: contains the point lo == hi, as insideBounds; kGrown: overlaps [lo, hi], as
+  /// segmentNearBounds).
+  template <class F> void forEach(Vec3f lo, Vec3f hi, BodyBox which, F&& f) const {
+    if (index_ == nullptr) {
+      for (std::size_t b = 0; b < count_; ++b)
+        f(b);
+      return;
+    }
+    const BodyBoxes* boxes = index_->boxes.data();
+    auto visit = [&](std::size_t b) {
+      // The negated rejection, as the step writes it: a NaN bound rejects nothing there either.
+      const Box& box = boxes[b].box[int(which)];
+      if (hi.x < box.lo.x || hi.y < box.lo.y || hi.z < box.lo.z || lo.x > box.hi.x || lo.y > box.hi.y ||
+          lo.z > box.hi.z)
+        return;
+      f(b);
+    };
+    CandidateLists lists;
+    index_->listsFor(lo, hi, &lists);
+    if (lists.all) { // not finite, or a long move: every body's box
+      for (std::size_t b = 0; b < count_; ++b)
+        visit(b);
+      return;
+    }
+    if (lists.count == 1) {
+      for (const std::uint32_t* b = lists.begin[0]; b != lists.end[0]; ++b)
+        visit(std::size_t(*b));
+      return;
+    }
+    merge(&lists, visit);
+  }
+
+private:
+  // Visits the union of sorted lists in order: each round takes the smallest head and advances every
+  // list that starts with it (a body in several cells is visited once).
+  template <class F> static void merge(CandidateLists* lists, F& f) {
+    for (;;) {
+      std::uint32_t next = UINT32_MAX;
+      for (int l = 0; l < lists->count; ++l) {
+        if (lists->begin[l] != lists->end[l] && *lists->begin[l] < next) next = *lists->begin[l];
+      }
+      if (next == UINT32_MAX) return;
+      f(std::size_t(next));
+      for (int l = 0; l < lists->count; ++l) {
+        if (lists->begin[l] != lists->end[l] && *lists->begin[l] == next) ++lists->begin[l];
+      }
+    }
+  }
+
+  std::size_t count_;
+  const BodyIndex::Impl* index_;
+};
+
+} // namespace dng
