@@ -309,7 +309,8 @@ cmd_fuzz_meshes() {
 
 cmd_bench() {
   deps
-  install_packages python3
+  install_packages python3 gnuplot-nox # the report and its plot
+  command -v npm >/dev/null || install_packages npm # the Table 1 meshes (bench/fetch_table1_meshes.sh)
   fetch_data
   configure_and_build "$ROOT/build/bench" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BENCH=ON -DDNG_BUILD_TESTS=OFF
   bash "$ROOT/bench/run.sh" "$ROOT/build/bench"
