@@ -5,7 +5,7 @@
 #include "dng/body_index.h"
 #include "dng/forces.h"
 #include "dng/format/writer.h"
-#include "scene.h"
+#include "swarm.h"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@ namespace dng {
 namespace {
 
 using analytic::AnalyticField;
-using Particles = samples::Swarm;
+using Particles = testing::Swarm;
 
 constexpr float kDt = 1.0f / 60.0f;
 

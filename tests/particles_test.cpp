@@ -5,7 +5,7 @@
 #include "dng/forces.h"
 #include "dng/format/writer.h"
 #include "dng/particles.h"
-#include "scene.h"
+#include "swarm.h"
 
 #include <gtest/gtest.h>
 
@@ -22,7 +22,7 @@ using analytic::AnalyticField;
 constexpr float kDt = 1.0f / 60.0f;
 
 // Structure-of-arrays particles, as the samples keep them.
-using Particles = samples::Swarm;
+using Particles = testing::Swarm;
 
 // A field baked from an analytic shape into a 40^3 grid of unit voxels. Its band has the half-voxel-
 // diagonal guard on top of 3 voxels, so its guaranteed reach, and design speed, is 3 voxels per step

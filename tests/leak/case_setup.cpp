@@ -114,7 +114,7 @@ void placeBody(const CaseSetup& setup, float t, Body* body) {
   body->setVelocity(setup.linear, setup.angular);
 }
 
-samples::Swarm spawnParticles(const Subject& subject, const CaseSpec& spec, const CaseSetup& setup, const Body& body) {
+testing::Swarm spawnParticles(const Subject& subject, const CaseSpec& spec, const CaseSetup& setup, const Body& body) {
   std::mt19937 rng(spec.seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   Vec3f lo{1e30f, 1e30f, 1e30f}, hi = lo * -1.0f;
@@ -124,7 +124,7 @@ samples::Swarm spawnParticles(const Subject& subject, const CaseSpec& spec, cons
   }
   const Vec3f pad{subject.reach, subject.reach, subject.reach};
   lo = lo - pad, hi = hi + pad;
-  samples::Swarm swarm;
+  testing::Swarm swarm;
   while (swarm.size() < spec.particles) {
     if (spec.start == Start::kResting) {
       swarm.add(body.toWorld(restingPoint(subject, rng, lo, hi)), {});

@@ -4,7 +4,7 @@
 
 #include "dng/body.h"
 #include "leak_case.h"
-#include "scene.h"
+#include "swarm.h"
 
 namespace dng {
 namespace leak {
@@ -26,7 +26,7 @@ CaseSetup makeSetup(const Subject& subject, const CaseSpec& spec);
 void placeBody(const CaseSetup& setup, float t, Body* body);
 
 /// The case's particles in the world at time 0 (body at its starting pose `body`), from spec.seed.
-samples::Swarm spawnParticles(const Subject& subject, const CaseSpec& spec, const CaseSetup& setup, const Body& body);
+testing::Swarm spawnParticles(const Subject& subject, const CaseSpec& spec, const CaseSetup& setup, const Body& body);
 
 } // namespace leak
 } // namespace dng

@@ -48,7 +48,7 @@ void count(const StepVerdict& v, Tally* t) {
 
 // Steps every particle once with the case's stepper; the body goes from `before` to `after`.
 std::uint64_t stepOnce(const Subject& subject, const CaseSpec& spec, const CaseSetup& setup, const Body& before,
-                       const Body& after, samples::Swarm* swarm) {
+                       const Body& after, testing::Swarm* swarm) {
   ParticleSpan all = swarm->span();
   applyGravity(all, setup.gravity, kDt);
   if (spec.stepper == Stepper::kRayCaster)
@@ -66,7 +66,7 @@ std::uint64_t stepOnce(const Subject& subject, const CaseSpec& spec, const CaseS
 }
 
 // Counts steps begun near the body faster, relative to the surface, than the case means to test.
-std::uint64_t countFast(const Subject& subject, const CaseSetup& setup, const Body& body, const samples::Swarm& swarm) {
+std::uint64_t countFast(const Subject& subject, const CaseSetup& setup, const Body& body, const testing::Swarm& swarm) {
   std::uint64_t fast = 0;
   const GridInfo& g = subject.file.view().grid();
   const Vec3f hi = g.origin + Vec3f{float(g.dims[0]), float(g.dims[1]), float(g.dims[2])} * g.voxel_size;
@@ -79,7 +79,7 @@ std::uint64_t countFast(const Subject& subject, const CaseSetup& setup, const Bo
   return fast;
 }
 
-void judgeStep(const PathJudge& judge, const Body& after, const samples::Swarm& swarm, Track* track,
+void judgeStep(const PathJudge& judge, const Body& after, const testing::Swarm& swarm, Track* track,
                tbb::enumerable_thread_specific<Tally>* tallies) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, swarm.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
@@ -104,7 +104,7 @@ CaseResult runCase(const Subject& subject, const CaseSpec& spec) {
   (void)Body::create(&subject.file.view(), setup.material, &before);
   after = before;
   placeBody(setup, 0.0f, &before);
-  samples::Swarm swarm = spawnParticles(subject, spec, setup, before);
+  testing::Swarm swarm = spawnParticles(subject, spec, setup, before);
   const PathJudge judge(subject.reference, subject.mesh.closed, subject.voxel);
   Track track{std::vector<Vec3f>(swarm.size()), std::vector<std::uint8_t>(swarm.size(), 0),
               std::vector<std::uint32_t>(swarm.size(), 0)};

@@ -18,7 +18,7 @@ constexpr float kStandOffVoxels = 1e-3f;
 } // namespace
 
 std::uint64_t rayCastStep(const reference::MeshReference& mesh, float voxel, float restitution, float dt,
-                          const Body& before, const Body& after, samples::Swarm* swarm) {
+                          const Body& before, const Body& after, testing::Swarm* swarm) {
   tbb::combinable<std::uint64_t> hits([] { return std::uint64_t(0); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, swarm->size()), [&](const tbb::blocked_range<std::size_t>& r) {
     std::vector<reference::Crossing> crossings;

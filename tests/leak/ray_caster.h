@@ -8,7 +8,7 @@
 
 #include "dng/body.h"
 #include "mesh_reference.h"
-#include "scene.h"
+#include "swarm.h"
 
 #include <cstdint>
 
@@ -19,7 +19,7 @@ namespace leak {
 /// `after` are the body at its poses at the start and at the end of the step. Returns the hits.
 /// Parallel over particles (TBB).
 std::uint64_t rayCastStep(const reference::MeshReference& mesh, float voxel, float restitution, float dt,
-                          const Body& before, const Body& after, samples::Swarm* swarm);
+                          const Body& before, const Body& after, testing::Swarm* swarm);
 
 } // namespace leak
 } // namespace dng

@@ -26,9 +26,4 @@ struct Swarm {
 
 } // namespace testing
 
-// The leak harness and particles_test still name it as it was named when it lived with the samples.
-namespace samples {
-using testing::Swarm;
-} // namespace samples
-
 } // namespace dng
