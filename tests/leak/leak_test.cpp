@@ -3,6 +3,9 @@
 // particle ending inside, no pass through a sheet, and with swept steps at 10x the design speed no
 // crossing at all. The reference itself and the ray-caster control are checked first, so a failure
 // below them is the step's, not the harness's. `bash setup.sh leaks` runs the full table.
+#include "case_setup.h"
+#include "dng/instruction_set.h"
+#include "dng/particles.h"
 #include "leak_case.h"
 #include "path_judge.h"
 #include "temp_dir.h"
@@ -268,6 +271,48 @@ TEST_F(LeakCase, PlateThinnerThanAVoxelIsNeverPassed) {
   const Subject* s = subject("thin plate", baker::NormalMode::kPotential);
   ASSERT_NE(s, nullptr);
   expectNoVisibleLeak(run(*s, {"static impact"}));
+}
+
+// The SIMD kernels on a real mesh: every set this machine has gives, particle by particle and step by
+// step, the scalar path's positions, velocities and contacts, bit for bit, on fandisk's creases with a
+// spinning body and every response rule (tests/instruction_set_test.cpp does the same on analytic
+// fields). The leak cases above run on the default set, so they judge the SIMD path.
+TEST_F(LeakCase, SimdKernelsGiveTheScalarStepsOnFandisk) {
+  const Subject* s = subject("fandisk", baker::NormalMode::kExact);
+  ASSERT_NE(s, nullptr);
+  CaseSpec spec{"spinning, impact+drag+flow"};
+  spec.motion = Motion::kSpinning;
+  spec.responses = Responses::kImpactDragFlow;
+  spec.particles = kParticles;
+  const CaseSetup setup = makeSetup(*s, spec);
+  Body body;
+  ASSERT_EQ(Body::create(&s->file.view(), setup.material, &body), Status::kOk);
+  placeBody(setup, 0.0f, &body);
+  const testing::Swarm start = spawnParticles(*s, spec, setup, body);
+  const InstructionSet best = bestInstructionSet();
+  for (InstructionSet set : {InstructionSet::kSse41, InstructionSet::kAvx2, InstructionSet::kNeon}) {
+    if (setInstructionSet(set) != Status::kOk) continue;
+    testing::Swarm reference = start, lanes = start;
+    std::vector<std::int32_t> reference_body(start.size()), lanes_body(start.size());
+    ParticleSpan a = reference.span(), b = lanes.span();
+    a.out_body = reference_body.data();
+    b.out_body = lanes_body.data();
+    for (int step = 0; step < kSteps; ++step) {
+      placeBody(setup, float(step) * kDt, &body);
+      ASSERT_EQ(setInstructionSet(InstructionSet::kScalar), Status::kOk);
+      ASSERT_EQ(stepParticles(a, kDt, &body, 1), Status::kOk);
+      ASSERT_EQ(setInstructionSet(set), Status::kOk);
+      ASSERT_EQ(stepParticles(b, kDt, &body, 1), Status::kOk);
+      for (std::size_t n = 0; n < start.size(); ++n) {
+        ASSERT_TRUE(reference.px[n] == lanes.px[n] && reference.py[n] == lanes.py[n] &&
+                    reference.pz[n] == lanes.pz[n] && reference.vx[n] == lanes.vx[n] &&
+                    reference.vy[n] == lanes.vy[n] && reference.vz[n] == lanes.vz[n] &&
+                    reference_body[n] == lanes_body[n])
+            << instructionSetName(set) << ": particle " << n << " differs after step " << step;
+      }
+    }
+  }
+  setInstructionSet(best);
 }
 
 } // namespace
