@@ -1,8 +1,8 @@
 #include "accuracy_vdb.h"
+#include "lattice_level_set.h"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
-#include <openvdb/tools/MeshToVolume.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -20,20 +20,7 @@ constexpr double kGradientStep = 1e-3;
 std::vector<VdbReading> meshToLevelSetReadings(const std::vector<Vec3f>& vertices,
                                                const std::vector<std::array<std::uint32_t, 3>>& triangles, Vec3f origin,
                                                float voxel, float band, const std::vector<Vec3f>& points) {
-  openvdb::initialize();
-  std::vector<openvdb::Vec3s> vdb_points;
-  vdb_points.reserve(vertices.size());
-  for (const Vec3f& v : vertices)
-    vdb_points.emplace_back(v.x, v.y, v.z);
-  std::vector<openvdb::Vec3I> vdb_triangles;
-  vdb_triangles.reserve(triangles.size());
-  for (const auto& t : triangles)
-    vdb_triangles.emplace_back(t[0], t[1], t[2]);
-  auto transform = openvdb::math::Transform::createLinearTransform(double(voxel));
-  const double half = 0.5 * double(voxel);
-  transform->postTranslate(openvdb::Vec3d(origin.x + half, origin.y + half, origin.z + half));
-  const openvdb::FloatGrid::Ptr grid =
-      openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, vdb_points, vdb_triangles, band / voxel);
+  const openvdb::FloatGrid::Ptr grid = latticeLevelSet(vertices, triangles, origin, voxel, band);
 
   std::vector<VdbReading> out(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& r) {
