@@ -5,18 +5,7 @@
 
 namespace dng {
 
-namespace {
-
-void sampleNearest(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
-  if (view.grid().encoding == format::Encoding::kDense)
-    lanes::avx2::sampleNearestBatch<true>(view, points, stride, count, out);
-  else
-    lanes::avx2::sampleNearestBatch<false>(view, points, stride, count, out);
-}
-
-} // namespace
-
 extern const BatchKernels kAvx2Kernels;
-const BatchKernels kAvx2Kernels = {"avx2", &sampleNearest, &lanes::avx2::stepLanes};
+const BatchKernels kAvx2Kernels = {"avx2", &lanes::avx2::sampleNearestBatch, &lanes::avx2::stepLanes};
 
 } // namespace dng

@@ -5,18 +5,7 @@
 
 namespace dng {
 
-namespace {
-
-void sampleNearest(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
-  if (view.grid().encoding == format::Encoding::kDense)
-    lanes::neon::sampleNearestBatch<true>(view, points, stride, count, out);
-  else
-    lanes::neon::sampleNearestBatch<false>(view, points, stride, count, out);
-}
-
-} // namespace
-
 extern const BatchKernels kNeonKernels;
-const BatchKernels kNeonKernels = {"neon", &sampleNearest, &lanes::neon::stepLanes};
+const BatchKernels kNeonKernels = {"neon", &lanes::neon::sampleNearestBatch, &lanes::neon::stepLanes};
 
 } // namespace dng

@@ -1,16 +1,13 @@
 // Non-collision forces for particle systems (dng/forces.h).
 #include "dng/forces.h"
 #include "diagnostic.h"
+#include "strided.h"
 
 #include <cmath>
 
 namespace dng {
 
 namespace {
-
-float& component(float* base, std::size_t stride, std::size_t n) {
-  return *reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride);
-}
 
 bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -28,9 +25,9 @@ Status checkSpan(const ParticleSpan& s, float dt, bool reads_positions, Diagnost
 
 template <class Change> void updateVelocities(const ParticleSpan& s, Change change) {
   for (std::size_t n = 0; n < s.count; ++n) {
-    float& vx = component(s.velocity_x, s.velocity_stride, n);
-    float& vy = component(s.velocity_y, s.velocity_stride, n);
-    float& vz = component(s.velocity_z, s.velocity_stride, n);
+    float& vx = strided(s.velocity_x, s.velocity_stride, n);
+    float& vy = strided(s.velocity_y, s.velocity_stride, n);
+    float& vz = strided(s.velocity_z, s.velocity_stride, n);
     const Vec3f v = change(n, Vec3f{vx, vy, vz});
     vx = v.x;
     vy = v.y;
@@ -39,8 +36,8 @@ template <class Change> void updateVelocities(const ParticleSpan& s, Change chan
 }
 
 Vec3f positionOf(const ParticleSpan& s, std::size_t n) {
-  return {component(s.position_x, s.position_stride, n), component(s.position_y, s.position_stride, n),
-          component(s.position_z, s.position_stride, n)};
+  return {strided(s.position_x, s.position_stride, n), strided(s.position_y, s.position_stride, n),
+          strided(s.position_z, s.position_stride, n)};
 }
 
 } // namespace

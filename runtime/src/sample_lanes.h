@@ -160,7 +160,7 @@ template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view,
 /// View::sampleBatch (nearest) over strided points, lanes at a time; the tail goes through
 /// View::sample. Writes out[0..count).
 template <bool kDense>
-void sampleNearestBatch(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
+void nearestBatch(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
   const auto* bytes = reinterpret_cast<const unsigned char*>(points);
   std::size_t n = 0;
   for (; n + kWidth <= count; n += kWidth) {
@@ -188,6 +188,15 @@ void sampleNearestBatch(const View& view, const float* points, std::size_t strid
     std::memcpy(p, bytes + n * stride, sizeof p);
     out[n] = view.sample(Vec3f{p[0], p[1], p[2]});
   }
+}
+
+/// The same for either encoding: the kernel table's entry (step_batch.h BatchKernels).
+inline void sampleNearestBatch(const View& view, const float* points, std::size_t stride, std::size_t count,
+                               Sample* out) {
+  if (view.grid().encoding == format::Encoding::kDense)
+    nearestBatch<true>(view, points, stride, count, out);
+  else
+    nearestBatch<false>(view, points, stride, count, out);
 }
 
 } // namespace DNG_LANES_NS

@@ -14,6 +14,7 @@
 #include "fast_math.h"
 #include "pose.h"
 #include "step_batch.h"
+#include "strided.h"
 #include "walk.h"
 
 #include <cmath>
@@ -43,24 +44,20 @@ struct ParticleState {
   Vec3f velocity;
 };
 
-float* at(float* base, std::size_t stride, std::size_t n) {
-  return reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride);
-}
-
 ParticleState load(const ParticleSpan& s, std::size_t n) {
-  return {{*at(s.position_x, s.position_stride, n), *at(s.position_y, s.position_stride, n),
-           *at(s.position_z, s.position_stride, n)},
-          {*at(s.velocity_x, s.velocity_stride, n), *at(s.velocity_y, s.velocity_stride, n),
-           *at(s.velocity_z, s.velocity_stride, n)}};
+  return {{strided(s.position_x, s.position_stride, n), strided(s.position_y, s.position_stride, n),
+           strided(s.position_z, s.position_stride, n)},
+          {strided(s.velocity_x, s.velocity_stride, n), strided(s.velocity_y, s.velocity_stride, n),
+           strided(s.velocity_z, s.velocity_stride, n)}};
 }
 
 void store(const ParticleSpan& s, std::size_t n, const ParticleState& p) {
-  *at(s.position_x, s.position_stride, n) = p.position.x;
-  *at(s.position_y, s.position_stride, n) = p.position.y;
-  *at(s.position_z, s.position_stride, n) = p.position.z;
-  *at(s.velocity_x, s.velocity_stride, n) = p.velocity.x;
-  *at(s.velocity_y, s.velocity_stride, n) = p.velocity.y;
-  *at(s.velocity_z, s.velocity_stride, n) = p.velocity.z;
+  strided(s.position_x, s.position_stride, n) = p.position.x;
+  strided(s.position_y, s.position_stride, n) = p.position.y;
+  strided(s.position_z, s.position_stride, n) = p.position.z;
+  strided(s.velocity_x, s.velocity_stride, n) = p.velocity.x;
+  strided(s.velocity_y, s.velocity_stride, n) = p.velocity.y;
+  strided(s.velocity_z, s.velocity_stride, n) = p.velocity.z;
 }
 
 bool insideBounds(const Body& b, Vec3f p) {

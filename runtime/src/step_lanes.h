@@ -13,6 +13,7 @@
 #include "dng/responses.h"
 #include "sample_lanes.h"
 #include "step_batch.h"
+#include "strided.h"
 
 #include <cstring>
 #include <limits>
@@ -250,10 +251,11 @@ DNG_LANE_INLINE M moveLanes(const StepBatch& batch, const LaneParticles& p, V3 e
     if (!sb.collides) continue;
     const M near = done & nearBounds(sb, p.position, end);
     if (!any(near)) continue;
+    // The response kept the start's local position and sample where the body's box held the particle
+    // (none kept: valid is all false, and sample and local were never written).
     const bool has_kept = any(kept.valid[b]);
     const V3 a = has_kept ? kept.local[b] : toLocal(sb.start, p.position);
-    done = done & walkLanes(sb, a, end, has_kept ? &kept.sample[b] : nullptr,
-                            has_kept ? kept.valid[b] : andNot(near, near), near);
+    done = done & walkLanes(sb, a, end, has_kept ? &kept.sample[b] : nullptr, kept.valid[b], near);
   }
   return done;
 }
@@ -263,16 +265,12 @@ struct Lanes3 {
   alignas(32) float x[kWidth], y[kWidth], z[kWidth];
 };
 
-inline float* at(float* base, std::size_t stride, std::size_t n) {
-  return reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride);
-}
-
 DNG_LANE_INLINE V3 loadLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n) {
   if (stride == sizeof(float)) return {load(x + n), load(y + n), load(z + n)};
   Lanes3 l;
   for (int lane = 0; lane < kWidth; ++lane) {
     const std::size_t i = n + std::size_t(lane);
-    l.x[lane] = *at(x, stride, i), l.y[lane] = *at(y, stride, i), l.z[lane] = *at(z, stride, i);
+    l.x[lane] = strided(x, stride, i), l.y[lane] = strided(y, stride, i), l.z[lane] = strided(z, stride, i);
   }
   return {load(l.x), load(l.y), load(l.z)};
 }
@@ -290,7 +288,7 @@ DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride
   for (int lane = 0; lane < kWidth; ++lane) {
     if (!((on >> lane) & 1u)) continue;
     const std::size_t i = n + std::size_t(lane);
-    *at(x, stride, i) = l.x[lane], *at(y, stride, i) = l.y[lane], *at(z, stride, i) = l.z[lane];
+    strided(x, stride, i) = l.x[lane], strided(y, stride, i) = l.y[lane], strided(z, stride, i) = l.z[lane];
   }
 }
 
