@@ -1,5 +1,5 @@
 // Accuracy at arbitrary points of the band (issue #10): real closed meshes baked at resolution 64 in
-// exact and normal-blur modes (bricked), read with nearest and trilinear queries, against the exact
+// exact and normal-blur modes (bricked), read with nearest, trilinear and accurate queries, against the exact
 // answer on the original triangles (closest point for distance and normal, ray parity for the sign),
 // beside OpenVDB's meshToLevelSet at the same voxel size, lattice and band, sampled trilinearly. Also
 // checks View::guaranteedReach(): every point that close to the surface must read in band.
@@ -214,8 +214,11 @@ bool runMesh(const std::string& path, const char* name, std::size_t count, MeshR
                                   }));
     }
     const std::string mode_name = baker::normalModeName(mode);
-    for (const Interpolation interpolation : {Interpolation::kNearest, Interpolation::kTrilinear}) {
-      const char* query = interpolation == Interpolation::kNearest ? "nearest" : "trilinear";
+    for (const Interpolation interpolation :
+         {Interpolation::kNearest, Interpolation::kTrilinear, Interpolation::kAccurate}) {
+      const char* query = interpolation == Interpolation::kNearest     ? "nearest"
+                          : interpolation == Interpolation::kTrilinear ? "trilinear"
+                                                                       : "accurate";
       out->rows.push_back(measure("dngrid " + mode_name + ", " + query, truth, voxel, view.guaranteedReach(),
                                   [&](std::size_t n, float* d, Vec3f* nrm) {
                                     const Sample s = view.sample(truth[n].p, interpolation);
@@ -266,12 +269,13 @@ int main(int argc, char** argv) {
   for (int m = 0; m < 2; ++m)
     for (const Row& r : results[m].rows)
       printRow(names[m], r);
-  std::printf("\n**Goals (issue #10), for the nearest query the step uses: distance max and p99 no worse than OpenVDB "
+  std::printf("\n**Goals (issue #10), for the accurate query: distance max and p99 no worse than OpenVDB "
               "trilinear, median at least 2x better; normal p99 no worse than its gradient's; no outside point with "
-              "a normal more than 90 degrees off.**\n\n");
+              "a normal more than 90 degrees off.** The nearest query is the step's lower bound and is judged by "
+              "its largest overestimate instead: the lowering that makes it one costs it accuracy on purpose.\n\n");
   for (int m = 0; m < 2; ++m)
     for (const Row& r : results[m].rows)
-      if (r.label.find("nearest") != std::string::npos)
+      if (r.label.find("accurate") != std::string::npos)
         std::printf("- %s\n", goalLine(names[m], r, results[m].rows.front()).c_str());
   std::printf("\n**Guaranteed reach** (nearest queries):\n\n");
   for (int m = 0; m < 2; ++m)

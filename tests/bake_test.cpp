@@ -1,5 +1,6 @@
 // The baker end to end: procedural meshes baked, read back through the runtime, compared with an
 // independent brute-force reference; bad input through the real dngbake program.
+#include "analytic_fields.h"
 #include "dng/file.h"
 #include "dng/format/xxhash64.h"
 #include "stages.h"
@@ -105,6 +106,9 @@ TEST_P(BakeSign, ExactModeDistancesAndSignsMatchBruteForce) {
       // concave facets. Inside, values only have to stay negative and are rounded to the nearest code.
       ASSERT_LE(s.distance, std::max(truth, 0.0f) + 1e-5f * h) << c.x << " " << c.y << " " << c.z;
       ASSERT_NEAR(s.distance, truth, 0.25f * h) << c.x << " " << c.y << " " << c.z;
+      // The LIFT section gives the accurate query the distance from before the lowering: at a voxel
+      // centre that is the exact one, up to the plane tiles' tolerance (0.02 voxel).
+      ASSERT_NEAR(view.sample(c, Interpolation::kAccurate).distance, truth, 0.03f * h) << c.x << " " << c.y;
       if (inside) {
         ASSERT_LT(s.distance, 0.0f);
       }
@@ -351,6 +355,33 @@ TEST_F(BakeTest, SameBytesWhateverTheThreadCount) {
     outputs.push_back(testing::readFile(out));
   }
   EXPECT_EQ(outputs[0], outputs[1]);
+}
+
+// --no-lift leaves the LIFT section out and changes nothing else the runtime reads: every query but
+// the accurate one gives the same bits, and the accurate one then reads the lowered values.
+TEST_F(BakeTest, WithoutTheLiftOnlyTheAccurateQueryChanges) {
+  const Mesh torus = testing::torusMesh({0, 0, 0}, 1.0f, 0.35f, 32, 16);
+  BakeOptions options = exactOptions();
+  const File lifted = bakeMesh(torus, "lifted", options);
+  options.lift = false;
+  const File plain = bakeMesh(torus, "plain", options);
+  EXPECT_TRUE(lifted.view().hasLift());
+  EXPECT_FALSE(plain.view().hasLift());
+  EXPECT_LT(plain.view().sizeBytes(), lifted.view().sizeBytes());
+  std::size_t raised = 0;
+  for (const Vec3f& p : analytic::randomPoints({-1.5f, -1.5f, -0.5f}, {1.5f, 1.5f, 0.5f}, 3000, 4)) {
+    for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+      const Sample a = lifted.view().sample(p, mode), b = plain.view().sample(p, mode);
+      ASSERT_EQ(a.distance, b.distance);
+      ASSERT_EQ(a.status, b.status);
+    }
+    const float a = lifted.view().sample(p, Interpolation::kAccurate).distance;
+    const float b = plain.view().sample(p, Interpolation::kAccurate).distance;
+    // Lifts raise, but for half a 10-bit step where inside values were rounded to the nearest code.
+    ASSERT_GE(a, b - 0.005f * lifted.view().grid().voxel_size);
+    raised += a > b ? 1 : 0;
+  }
+  EXPECT_GT(raised, 1000u);
 }
 
 // Progress comes during the long stages, not only at their ends, and returning false stops the bake

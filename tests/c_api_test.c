@@ -85,7 +85,7 @@ static void test_batch(const dng_field* box) {
   static answer_t answers[kCount];
   int i, same = 0, untouched = 0;
   uint32_t mode;
-  for (mode = DNG_INTERPOLATION_NEAREST; mode <= DNG_INTERPOLATION_TRILINEAR; ++mode) {
+  for (mode = DNG_INTERPOLATION_NEAREST; mode <= DNG_INTERPOLATION_ACCURATE; ++mode) {
     for (i = 0; i < kCount; ++i) {
       points[i].xyz[0] = -14.0f + 0.19f * (float)i;
       points[i].xyz[1] = 0.3f;
@@ -101,8 +101,8 @@ static void test_batch(const dng_field* box) {
       untouched += answers[i].marker[0] == 0xC0FFEEu;
     }
   }
-  CHECK(same == 2 * kCount);
-  CHECK(untouched == 2 * kCount);
+  CHECK(same == 3 * kCount);
+  CHECK(untouched == 3 * kCount);
   CHECK(dng_field_sample_batch(box, points[0].xyz, 8, kCount, &answers[0].sample, sizeof(answer_t), 0) ==
         DNG_INVALID_ARGUMENT);
   CHECK(dng_field_sample_batch(box, points[0].xyz, 12, kCount, &answers[0].sample, 8, 0) == DNG_INVALID_ARGUMENT);
@@ -131,6 +131,10 @@ static void test_sampling(const dng_field* box) {
   CHECK(s.status == DNG_SAMPLE_IN_BAND);
   CHECK(fabsf(s.distance - 0.5f) < 0.05f);
   CHECK(s.normal[0] > 0.99f);
+  s = dng_field_sample(box, 6.75f, 0.25f, -0.5f, DNG_INTERPOLATION_ACCURATE); /* the face at x = 6.25 */
+  CHECK(s.status == DNG_SAMPLE_IN_BAND);
+  CHECK(fabsf(s.distance - 0.5f) < 0.01f);
+  CHECK(s.normal[0] > 0.999f);
   s = dng_field_sample(box, 0.0f, 0.0f, 0.0f, DNG_INTERPOLATION_TRILINEAR);
   CHECK(s.status == DNG_SAMPLE_FAR_INSIDE);
   s = dng_field_sample(box, 50.0f, 0.0f, 0.0f, DNG_INTERPOLATION_NEAREST);

@@ -1,6 +1,7 @@
 // Byte-for-byte pins of the writer's output. A change here is a format change: bump the version
 // per docs/FORMAT.md, note it in docs/CHANGELOG.md, then regenerate with DNG_UPDATE_GOLDEN=1 (which
 // rewrites a differing file and still fails: review and commit it, then run again).
+#include "analytic_fields.h"
 #include "dng/view.h"
 #include "sample_files.h"
 
@@ -31,6 +32,33 @@ void compareWithGolden(const char* name, const std::vector<std::uint8_t>& bytes)
 
 TEST(Golden, DensePlane) { compareWithGolden("dense_plane.dng", testing::smallDensePlane()); }
 TEST(Golden, BrickedBox) { compareWithGolden("bricked_box.dng", testing::smallBrickedBox()); }
+TEST(Golden, BrickedBoxLifted) { compareWithGolden("bricked_box_lifted.dng", testing::smallBrickedBoxLifted()); }
+
+// Files the 1.1 writer made (kept in golden/v1_1) still open, and read exactly as the same fields
+// written by this writer: 1.2 only added the optional LIFT section, which these fields have none of.
+TEST(Golden, Version11FilesReadAsBefore) {
+  for (const char* name : {"dense_plane.dng", "bricked_box.dng"}) {
+    SCOPED_TRACE(name);
+    const std::vector<std::uint8_t> old_bytes = testing::readFileBytes(testing::goldenPath("v1_1/") + name);
+    const std::vector<std::uint8_t> new_bytes = testing::readFileBytes(testing::goldenPath(name));
+    View old_view, new_view;
+    ASSERT_EQ(View::open(old_bytes.data(), old_bytes.size(), &old_view), Status::kOk);
+    ASSERT_EQ(View::open(new_bytes.data(), new_bytes.size(), &new_view), Status::kOk);
+    EXPECT_EQ(old_view.versionMinor(), 1);
+    EXPECT_EQ(new_view.versionMinor(), format::kVersionMinor);
+    EXPECT_FALSE(old_view.hasLift());
+    const GridInfo& g = old_view.grid();
+    const Vec3f hi = g.origin + Vec3f{float(g.dims[0]), float(g.dims[1]), float(g.dims[2])} * g.voxel_size;
+    for (const Vec3f& p : analytic::randomPoints(g.origin, hi, 500, 7)) {
+      for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear, Interpolation::kAccurate}) {
+        const Sample a = old_view.sample(p, mode), b = new_view.sample(p, mode);
+        ASSERT_EQ(a.status, b.status);
+        ASSERT_EQ(a.distance, b.distance);
+        ASSERT_EQ(a.normal.x, b.normal.x);
+      }
+    }
+  }
+}
 
 } // namespace
 } // namespace dng

@@ -229,6 +229,10 @@ TEST(Reject, PayloadSizesThatDoNotMatchTheGrid) {
   const Bytes dense = testing::smallDensePlane();
   EXPECT_EQ(openStatus(withEntry(dense, format::kTagDense, [](SectionEntry& e) { e.size -= 16; })),
             Status::kBadPayloadSize);
+  const Bytes lifted = testing::smallBrickedBoxLifted();
+  ASSERT_EQ(openStatus(lifted), Status::kOk);
+  EXPECT_EQ(openStatus(withEntry(lifted, format::kTagLift, [](SectionEntry& e) { e.size -= 2; })),
+            Status::kBadPayloadSize);
   // Dimensions whose product overflows 64 bits must not wrap around to a matching size.
   EXPECT_EQ(openStatus(withGrid(dense, [](GridSection& g) { g.dims[0] = g.dims[1] = g.dims[2] = 1u << 24; })),
             Status::kBadPayloadSize);

@@ -94,6 +94,8 @@ void addOptions(CLI::App& app, CommandLine& cl) {
       ->transform(CLI::CheckedTransformer(encodings, CLI::ignore_case));
   app.add_option("--brick-size", cl.bake.brick.brick_size, "4, 8 (default) or 16")->check(CLI::IsMember({4u, 8u, 16u}));
   app.add_option("--tolerance", cl.bake.brick.tolerance_distance, "plane/far tile tolerance in voxels (default 0.02)");
+  app.add_flag("!--no-lift", cl.bake.lift,
+               "leave out the LIFT section (a third smaller file); accurate queries then read the lowered values");
   app.add_option("--export-vdb", cl.export_vdb, "also write distance and normal grids as OpenVDB");
   app.add_option("--threads", cl.bake.threads, "worker threads (default: all); the output never depends on it");
   app.add_flag("--json", cl.json, "print a versioned JSON report on stdout");
@@ -161,6 +163,7 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                   {"band_voxels", e.band_voxels},
                   {"max_distance_error_voxels", e.max_distance_error_voxels},
                   {"max_normal_error_degrees", e.max_normal_error_deg},
+                  {"max_lifted_error_voxels", e.max_lifted_error_voxels},
                   {"payload_bytes", e.payload_bytes}};
   j["working_store"] = {{"blocks", r.band_blocks}, {"peak_memory_bytes", r.peak_memory_bytes}};
   j["output_bytes"] = r.output_bytes;

@@ -86,7 +86,8 @@ std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, co
                         {"encoding", encodingName(o.encoding)},
                         {"brick_size", o.brick.brick_size},
                         {"tolerance_voxels", o.brick.tolerance_distance},
-                        {"tolerance_degrees", o.brick.tolerance_normal_deg}};
+                        {"tolerance_degrees", o.brick.tolerance_normal_deg},
+                        {"lift", o.lift}};
   meta["conservative_planes"] = (g.flags & format::kGridFlagConservativePlanes) != 0;
   meta["source"] = sourceJson(report);
   meta["units"] = unitsJson(report);
@@ -176,7 +177,7 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return BakeStatus::cancelled();
-  status = makePlanesConservative(options.mode == NormalMode::kExact, progress, user, &band);
+  status = makePlanesConservative(options.mode == NormalMode::kExact, options.lift, progress, user, &band);
   if (!status.ok()) return status;
   report->grid.flags = band.grid().flags;
   timer.done("conservative");

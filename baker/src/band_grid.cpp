@@ -92,20 +92,18 @@ std::uint64_t BandGrid::bandVoxels() const { return impl_->distance->tree().acti
 
 std::uint64_t BandGrid::blockCount() const { return impl_->distance->tree().leafCount(); }
 
-void BandGrid::read(const format::VoxelBox& box, float* distance, Vec3f* normal) const {
-  const openvdb::FloatTree& distances = impl_->distance->tree();
-  const openvdb::Vec3STree& normals = impl_->normal->tree();
+namespace {
+
+// Copies the box's voxels out of `tree` leaf by leaf from the raw buffers (an accessor walks the tree
+// and checks delayed loading per voxel); cells without a leaf hold one tile value. Calls
+// store(out, value) with out the voxel's index in the box, x fastest.
+template <class Tree, class Store> void readTree(const Tree& tree, const format::VoxelBox& box, Store store) {
   const int dim = VoxelBlock::kDim;
   const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
-  // Leaf by leaf from the raw buffers (an accessor walks the tree and checks delayed loading per
-  // voxel); cells without a leaf hold one tile value.
   forEachCell(box, [&](const openvdb::Coord& cell) {
-    const auto* d_leaf = distances.probeConstLeaf(cell);
-    const auto* n_leaf = normals.probeConstLeaf(cell);
-    const float* d_values = d_leaf != nullptr ? d_leaf->buffer().data() : nullptr;
-    const openvdb::Vec3s* n_values = n_leaf != nullptr ? n_leaf->buffer().data() : nullptr;
-    const float d_tile = d_leaf != nullptr ? 0.0f : distances.getValue(cell);
-    const openvdb::Vec3s n_tile = n_leaf != nullptr ? openvdb::Vec3s(0.0f) : normals.getValue(cell);
+    const auto* leaf = tree.probeConstLeaf(cell);
+    const auto* values = leaf != nullptr ? leaf->buffer().data() : nullptr;
+    const typename Tree::ValueType tile = leaf != nullptr ? typename Tree::ValueType(0) : tree.getValue(cell);
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
       lo[a] = std::max(int(box.lo[a]), cell[a]);
@@ -115,13 +113,27 @@ void BandGrid::read(const format::VoxelBox& box, float* distance, Vec3f* normal)
       for (int j = lo[1]; j < hi[1]; ++j)
         for (int i = lo[0]; i < hi[0]; ++i) {
           const std::size_t out = ((k - box.lo[2]) * ny + (j - box.lo[1])) * nx + (i - box.lo[0]);
-          const int in = VoxelBlock::offset(i - cell[0], j - cell[1], k - cell[2]);
-          distance[out] = d_values != nullptr ? d_values[in] : d_tile;
-          const openvdb::Vec3s n = n_values != nullptr ? n_values[in] : n_tile;
-          normal[out] = {n.x(), n.y(), n.z()};
+          store(out, values != nullptr ? values[VoxelBlock::offset(i - cell[0], j - cell[1], k - cell[2])] : tile);
         }
     return true;
   });
+}
+
+} // namespace
+
+void BandGrid::read(const format::VoxelBox& box, float* distance, Vec3f* normal) const {
+  readTree(impl_->distance->tree(), box, [&](std::size_t out, float d) { distance[out] = d; });
+  readTree(impl_->normal->tree(), box, [&](std::size_t out, const openvdb::Vec3s& n) {
+    normal[out] = {n.x(), n.y(), n.z()};
+  });
+}
+
+void BandGrid::keepAccurateDistances() { impl_->accurate = impl_->distance->deepCopy(); }
+
+bool BandGrid::hasAccurate() const { return impl_->accurate != nullptr; }
+
+void BandGrid::readAccurate(const format::VoxelBox& box, float* distance) const {
+  readTree(impl_->accurate->tree(), box, [&](std::size_t out, float d) { distance[out] = d; });
 }
 
 format::FarHint BandGrid::farHint(const format::VoxelBox& box) const {

@@ -69,6 +69,13 @@ public:
   std::uint64_t blockCount() const;
 
   void read(const format::VoxelBox& box, float* distance, Vec3f* normal) const override;
+
+  /// Keeps a copy of the distances as they are now, before a stage lowers them (conservative planes),
+  /// so the encoders can write what lifts them back (the file's LIFT section). Costs one more float
+  /// per band voxel. Call after finishBand, once.
+  void keepAccurateDistances();
+  bool hasAccurate() const override;
+  void readAccurate(const format::VoxelBox& box, float* distance) const override;
   /// Far when no block overlaps the box and every tile it covers lies on one side.
   format::FarHint farHint(const format::VoxelBox& box) const override;
 

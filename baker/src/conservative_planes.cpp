@@ -141,7 +141,8 @@ void lowerBlock(const Neighbourhood& hood, const format::GridGeometry& g, bool e
 
 } // namespace
 
-BakeStatus makePlanesConservative(bool exact_normals, ProgressFn progress, void* progress_user, BandGrid* io) {
+BakeStatus makePlanesConservative(bool exact_normals, bool keep_accurate, ProgressFn progress, void* progress_user,
+                                  BandGrid* io) {
   const format::GridGeometry& g = io->grid();
   const std::vector<VoxelBlock> blocks = io->blocks();
   std::vector<float> lowered(blocks.size() * VoxelBlock::kVoxels, 0.0f);
@@ -152,6 +153,7 @@ BakeStatus makePlanesConservative(bool exact_normals, ProgressFn progress, void*
         lowerBlock(hood, g, exact_normals, &lowered[b * VoxelBlock::kVoxels]);
       });
   if (!finished) return BakeStatus::cancelled();
+  if (keep_accurate) io->keepAccurateDistances(); // what the file's LIFT section gives back
   // Applied after every block has read its neighbours' original distances.
   // Inside, a lowered value only has to stay negative (a plane proves nothing where it reads below
   // zero), so it stops short of -band: the voxel stays in the band, as the .vdb export has it.

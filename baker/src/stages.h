@@ -137,7 +137,9 @@ BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options,
 /// distance everywhere in the voxel's cell (conservative_planes.cpp says how the bound is found), and
 /// marks the grid format::kGridFlagConservativePlanes. Runs after the normals are final; with exact
 /// normals the tangent part of the bound is zero. Reports stage "conservative"; cancel as the others.
-BakeStatus makePlanesConservative(bool exact_normals, ProgressFn progress, void* progress_user, BandGrid* io);
+/// With `keep_accurate` the band keeps the distances from before the lowering (BandGrid::keepAccurateDistances).
+BakeStatus makePlanesConservative(bool exact_normals, bool keep_accurate, ProgressFn progress, void* progress_user,
+                                  BandGrid* io);
 
 /// A voxel the surface overlaps, with the average normal of the triangles overlapping it.
 struct SurfaceVoxel {

@@ -37,6 +37,12 @@ struct Encoder {
   std::vector<Vec3f> normal;
   std::vector<std::uint32_t> quantized; // writeBrick's scratch: octahedral normal bits per voxel
   std::vector<float> target;            // and the value each voxel's word may not exceed
+  // LIFT (docs/FORMAT.md §5.2), when the source has accurate distances: the brick's accurate values,
+  // and one lift per top entry and per pool word, in the orders of `top` and `pool`.
+  bool lifted = false;
+  std::vector<float> accurate;
+  std::vector<std::int16_t> lift_top;
+  std::vector<std::int16_t> lift_pool;
 };
 
 // A brick's voxel range, clipped to the grid.
@@ -144,6 +150,37 @@ bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3],
   return true;
 }
 
+// Voxel v's lift over the value a reader decodes for it, and the error it leaves (band voxels).
+std::int16_t lift(Encoder& e, std::size_t v, float decoded) {
+  const std::int16_t code = voxelLift(e.accurate[v], decoded, e.grid.band);
+  if (inBand(e, v))
+    e.stats.max_lifted_error_voxels =
+        std::max(e.stats.max_lifted_error_voxels, liftedError(e.accurate[v], decoded, code, e.grid));
+  return code;
+}
+
+// A plane tile has one lift: the mean over its band voxels of what lifts each one from the plane.
+std::int16_t planeLift(Encoder& e, const BrickBox& box, const std::uint32_t brick[3], std::uint64_t entry) {
+  const GridGeometry& g = e.grid;
+  const Vec3f n = entryPlaneNormal(entry), c = tileCentre(e, brick);
+  const float d_c = entryPlaneDistance(entry);
+  double sum = 0.0;
+  std::size_t count = 0;
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    if (!inBand(e, v)) return;
+    sum += double(voxelLift(e.accurate[v], d_c + dot(n, g.voxelCentre(i, j, k) - c), g.band));
+    ++count;
+  });
+  const auto code = std::int16_t(std::lround(sum / double(count)));
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    if (!inBand(e, v)) return;
+    const float plane = d_c + dot(n, g.voxelCentre(i, j, k) - c);
+    e.stats.max_lifted_error_voxels =
+        std::max(e.stats.max_lifted_error_voxels, liftedError(e.accurate[v], plane, code, g));
+  });
+  return code;
+}
+
 // The value a voxel's word must not exceed: its distance lowered by the tilt its quantized normal
 // adds over the cell (far voxels keep +-band, which decodes exactly).
 float conservativeTarget(const Encoder& e, std::size_t v, Vec3f quantized_normal) {
@@ -191,13 +228,16 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   const std::size_t base = e.pool.size();
   const std::uint32_t pool_index = std::uint32_t(base >> (3 * e.log2));
   e.pool.resize(base + (std::size_t(1) << (3 * e.log2)), 0u);
+  if (e.lifted) e.lift_pool.resize(e.pool.size(), 0);
   const std::uint32_t mask = e.size - 1;
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     const std::uint32_t qd = distanceCode(targets[v], inBand(e, v), lo_value, hi_value, step);
     const std::uint32_t word = normals[v] | qd << (2 * kWordOctBits);
     const std::size_t local = ((k & mask) << (2 * e.log2)) | ((j & mask) << e.log2) | (i & mask);
     e.pool[base + local] = word;
-    if (inBand(e, v)) measure(e, v, wordDistance(word, lo_value, hi_value, step), wordNormal(word));
+    const float decoded = wordDistance(word, lo_value, hi_value, step);
+    if (inBand(e, v)) measure(e, v, decoded, wordNormal(word));
+    if (e.lifted) e.lift_pool[base + local] = lift(e, v, decoded);
   });
   return packBrickEntry(pool_index, lo16, hi16);
 }
@@ -212,17 +252,21 @@ bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
     box.hi[a] = read.hi[a] = std::min(box.lo[a] + e.size, e.grid.dims[a]);
   }
   std::uint64_t entry = 0;
+  std::int16_t tile_lift = 0; // far tiles and bricks lift nothing at the tile level
   const FarHint hint = e.source.farHint(read);
   if (hint != FarHint::kUnknown) {
     entry = packFarEntry(hint == FarHint::kFarOutside ? TileKind::kFarOutside : TileKind::kFarInside);
   } else {
     e.source.read(read, e.distance.data(), e.normal.data());
     if (!(*error = checkVoxels(read, e.distance.data(), e.normal.data())).empty()) return false;
+    if (e.lifted) e.source.readAccurate(read, e.accurate.data());
+    if (e.lifted && !(*error = checkAccurate(read, e.accurate.data())).empty()) return false;
     for (std::size_t v = 0; v < read.count(); ++v)
       e.stats.band_voxels += inBand(e, v) ? 1 : 0;
     if (!tryFarTile(e, box, &entry)) {
       if (tryPlaneTile(e, box, brick, &entry)) {
         ++e.stats.tiles.plane;
+        tile_lift = e.lifted ? planeLift(e, box, brick, entry) : 0;
       } else {
         entry = writeBrick(e, box);
         ++e.stats.tiles.brick;
@@ -233,6 +277,7 @@ bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
   if (kind == TileKind::kFarOutside) ++e.stats.tiles.far_outside;
   if (kind == TileKind::kFarInside) ++e.stats.tiles.far_inside;
   e.top.push_back(entry);
+  if (e.lifted) e.lift_top.push_back(tile_lift);
   return true;
 }
 
@@ -247,25 +292,32 @@ std::string checkOptions(const BrickOptions& o) {
 
 Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std::uint32_t log2) {
   const std::size_t brick_voxels = std::size_t(1) << (3 * log2);
-  return Encoder{source,
-                 source.grid(),
-                 log2,
-                 options.brick_size,
-                 options.tolerance_distance * source.grid().voxel_size,
-                 std::cos(options.tolerance_normal_deg / kDegrees),
-                 {},
-                 {},
-                 {},
-                 std::vector<float>(brick_voxels),
-                 std::vector<Vec3f>(brick_voxels),
-                 std::vector<std::uint32_t>(brick_voxels),
-                 std::vector<float>(brick_voxels)};
+  Encoder e{source,
+            source.grid(),
+            log2,
+            options.brick_size,
+            options.tolerance_distance * source.grid().voxel_size,
+            std::cos(options.tolerance_normal_deg / kDegrees),
+            {},
+            {},
+            {},
+            std::vector<float>(brick_voxels),
+            std::vector<Vec3f>(brick_voxels),
+            std::vector<std::uint32_t>(brick_voxels),
+            std::vector<float>(brick_voxels),
+            source.hasAccurate(),
+            {},
+            {},
+            {}};
+  if (e.lifted) e.accurate.resize(brick_voxels);
+  return e;
 }
 
 // What one z layer of bricks encoded to; pool indices in `top` count from the layer's first brick.
 struct Layer {
   std::vector<std::uint64_t> top;
   std::vector<std::uint32_t> pool;
+  std::vector<std::int16_t> lift_top, lift_pool; // empty without accurate distances
   EncodeStats stats;
   std::string error;
 };
@@ -278,6 +330,7 @@ void addStats(const EncodeStats& layer, EncodeStats* total) {
   total->band_voxels += layer.band_voxels;
   total->max_distance_error_voxels = std::max(total->max_distance_error_voxels, layer.max_distance_error_voxels);
   total->max_normal_error_deg = std::max(total->max_normal_error_deg, layer.max_normal_error_deg);
+  total->max_lifted_error_voxels = std::max(total->max_lifted_error_voxels, layer.max_lifted_error_voxels);
 }
 
 // Concatenates the layers in z order, moving each layer's pool indices past the bricks before it.
@@ -285,6 +338,7 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   EncodeResult result;
   std::vector<std::uint64_t> top;
   std::vector<std::uint32_t> pool;
+  std::vector<std::int16_t> lift_top, lift_pool;
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);
     if (result.stats.tiles.brick >= kMaxPoolBricks) {
@@ -297,13 +351,19 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
                         ? entry
                         : packBrickEntry(entryPoolIndex(entry) + first_brick, entryLo16(entry), entryHi16(entry)));
     pool.insert(pool.end(), layer.pool.begin(), layer.pool.end());
+    lift_top.insert(lift_top.end(), layer.lift_top.begin(), layer.lift_top.end());
+    lift_pool.insert(lift_pool.end(), layer.lift_pool.begin(), layer.lift_pool.end());
     layer = Layer{}; // give the memory back as we go
   }
   ContainerBuilder builder;
   addCommonSections(builder, grid, metadata_json);
   builder.addSection(kTagBrickTop, kSectionRequired, top.data(), top.size() * sizeof(std::uint64_t));
   builder.addSection(kTagBrickPool, kSectionRequired, pool.data(), pool.size() * sizeof(std::uint32_t));
-  result.stats.payload_bytes = top.size() * sizeof(std::uint64_t) + pool.size() * sizeof(std::uint32_t);
+  // LIFT: the tiles' lifts, then the pool's, one array.
+  lift_top.insert(lift_top.end(), lift_pool.begin(), lift_pool.end());
+  if (!lift_top.empty()) builder.addSection(kTagLift, 0, lift_top.data(), lift_top.size() * sizeof(std::int16_t));
+  result.stats.payload_bytes =
+      top.size() * sizeof(std::uint64_t) + pool.size() * sizeof(std::uint32_t) + lift_top.size() * sizeof(std::int16_t);
   result.bytes = builder.finish();
   return result;
 }
@@ -336,6 +396,8 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
         if (!encodeTile(e, brick, &layers[z].error)) return;
     layers[z].top = std::move(e.top);
     layers[z].pool = std::move(e.pool);
+    layers[z].lift_top = std::move(e.lift_top);
+    layers[z].lift_pool = std::move(e.lift_pool);
     layers[z].stats = e.stats;
   });
   if (!finished) result.fail(EncodeError::kCancelled, "cancelled");

@@ -2,6 +2,7 @@
 #include "dng/format/writer.h"
 #include "grid_section.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <mutex>
@@ -41,15 +42,30 @@ std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f*
   return {};
 }
 
+std::string checkAccurate(const VoxelBox& box, const float* accurate) {
+  for (std::size_t v = 0; v < box.count(); ++v) {
+    if (!(std::fabs(accurate[v]) <= kMaxMagnitude)) {
+      const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
+      return "voxel (" + std::to_string(box.lo[0] + v % nx) + ", " + std::to_string(box.lo[1] + v / nx % ny) + ", " +
+             std::to_string(box.lo[2] + v / (nx * ny)) + ") holds a non-finite accurate distance";
+    }
+  }
+  return {};
+}
+
 std::string checkField(const DenseField& field) {
   std::string error = checkGeometry(field.grid);
   if (!error.empty()) return error;
   if (field.distance.size() != field.grid.voxelCount() || field.normal.size() != field.grid.voxelCount())
     return "distance and normal arrays must hold one entry per voxel";
+  if (!field.accurate.empty() && field.accurate.size() != field.grid.voxelCount())
+    return "the accurate array must be empty or hold one entry per voxel";
   VoxelBox all;
   for (int a = 0; a < 3; ++a)
     all.hi[a] = field.grid.dims[a];
-  return checkVoxels(all, field.distance.data(), field.normal.data());
+  error = checkVoxels(all, field.distance.data(), field.normal.data());
+  if (error.empty() && !field.accurate.empty()) error = checkAccurate(all, field.accurate.data());
+  return error;
 }
 
 bool runPieces(const EncodeHooks& hooks, std::size_t count, const std::function<void(std::size_t)>& piece) {
@@ -96,10 +112,13 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
   result.fail(EncodeError::kInvalidGeometry, checkGeometry(g));
   if (!result.ok()) return result;
 
-  // One piece per z slice, each writing its own part of `voxels`.
+  // One piece per z slice, each writing its own part of `voxels` (and of `lifts`).
   const std::size_t per_slice = std::size_t(g.dims[0]) * g.dims[1];
+  const bool lifted = source.hasAccurate();
   std::vector<DenseVoxel> voxels(g.voxelCount());
+  std::vector<std::int16_t> lifts(lifted ? g.voxelCount() : 0);
   std::vector<std::uint64_t> band_voxels(g.dims[2], 0);
+  std::vector<float> lift_errors(g.dims[2], 0.0f);
   std::vector<std::string> errors(g.dims[2]);
   const bool finished = runPieces(hooks, g.dims[2], [&](std::size_t k) {
     VoxelBox slice;
@@ -107,26 +126,36 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
     slice.hi[1] = g.dims[1];
     slice.lo[2] = std::uint32_t(k);
     slice.hi[2] = std::uint32_t(k + 1);
-    std::vector<float> distance(per_slice);
+    std::vector<float> distance(per_slice), accurate(lifted ? per_slice : 0);
     std::vector<Vec3f> normal(per_slice);
     source.read(slice, distance.data(), normal.data());
     if (!(errors[k] = checkVoxels(slice, distance.data(), normal.data())).empty()) return;
+    if (lifted) source.readAccurate(slice, accurate.data());
+    if (lifted && !(errors[k] = checkAccurate(slice, accurate.data())).empty()) return;
     for (std::size_t v = 0; v < per_slice; ++v) {
       const Vec3f n = normalizeOrZero(normal[v]); // readers rely on unit-or-zero normals
       voxels[k * per_slice + v] = {distance[v], {n.x, n.y, n.z}};
-      if (std::fabs(distance[v]) < g.band) ++band_voxels[k];
+      const bool in_band = std::fabs(distance[v]) < g.band;
+      if (in_band) ++band_voxels[k];
+      if (!lifted) continue;
+      const std::int16_t lift = voxelLift(accurate[v], distance[v], g.band);
+      lifts[k * per_slice + v] = lift;
+      if (in_band) lift_errors[k] = std::max(lift_errors[k], liftedError(accurate[v], distance[v], lift, g));
     }
   });
   if (!finished) result.fail(EncodeError::kCancelled, "cancelled");
   for (const std::string& error : errors)
     result.fail(EncodeError::kInvalidField, error); // the first bad slice, whatever the threads
   if (!result.ok()) return result;
-  for (std::uint64_t count : band_voxels)
-    result.stats.band_voxels += count;
+  for (std::size_t k = 0; k < band_voxels.size(); ++k) {
+    result.stats.band_voxels += band_voxels[k];
+    result.stats.max_lifted_error_voxels = std::max(result.stats.max_lifted_error_voxels, lift_errors[k]);
+  }
   ContainerBuilder builder;
   addCommonSections(builder, makeGridSection(g, Encoding::kDense), metadata_json);
   builder.addSection(kTagDense, kSectionRequired, voxels.data(), voxels.size() * sizeof(DenseVoxel));
-  result.stats.payload_bytes = voxels.size() * sizeof(DenseVoxel);
+  if (lifted) builder.addSection(kTagLift, 0, lifts.data(), lifts.size() * sizeof(std::int16_t));
+  result.stats.payload_bytes = voxels.size() * sizeof(DenseVoxel) + lifts.size() * sizeof(std::int16_t);
   result.bytes = builder.finish();
   return result;
 }

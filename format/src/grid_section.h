@@ -1,9 +1,12 @@
 // Internal to the writer: helpers both encoders share.
 #pragma once
 
+#include "dng/format/codec.h"
 #include "dng/format/limits.h"
 #include "dng/format/writer.h"
 
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -12,6 +15,23 @@ namespace format {
 
 /// Empty when every voxel of a read box is finite and within kMaxMagnitude, else which one is not.
 std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f* normal);
+
+/// Empty when every accurate distance of a read box (FieldSource::readAccurate) is finite and within
+/// kMaxMagnitude, else which voxel is not.
+std::string checkAccurate(const VoxelBox& box, const float* accurate);
+
+/// The lift that takes a voxel's decoded distance to its accurate one, both clamped to the band (a
+/// reader never lifts a far voxel), as the LIFT section's code (docs/FORMAT.md §5.2).
+inline std::int16_t voxelLift(float accurate, float decoded, float band) {
+  const auto clamp = [band](float d) { return d < -band ? -band : d > band ? band : d; };
+  return liftCode(clamp(accurate) - clamp(decoded), band);
+}
+
+/// The error a lift leaves, in voxels: how far decoded + lift lands from the accurate distance.
+inline float liftedError(float accurate, float decoded, std::int16_t lift, const GridGeometry& g) {
+  const auto clamp = [&g](float d) { return d < -g.band ? -g.band : d > g.band ? g.band : d; };
+  return std::fabs(clamp(decoded) + float(lift) * liftStep(g.band) - clamp(accurate)) / g.voxel_size;
+}
 
 /// Runs piece(i) for i in [0, count) through hooks.parallel_for (or in order), reporting progress
 /// after each piece, one report at a time. False when the progress callback asked to stop; pieces not

@@ -49,6 +49,7 @@ dng_sample toC(const dng::Sample& s) {
 }
 
 dng::Interpolation toInterpolation(uint32_t interpolation) {
+  if (interpolation == DNG_INTERPOLATION_ACCURATE) return dng::Interpolation::kAccurate;
   return interpolation == DNG_INTERPOLATION_TRILINEAR ? dng::Interpolation::kTrilinear : dng::Interpolation::kNearest;
 }
 

@@ -1,4 +1,4 @@
-// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V16). After it succeeds, every
+// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V17). After it succeeds, every
 // offset, size and brick index the query path uses is known to be in range, and every float it
 // reads is finite, so queries need no checks beyond clamping the position.
 #include "diagnostic.h"
@@ -42,6 +42,7 @@ public:
     if (s == Status::kOk) s = checkSections();
     if (s == Status::kOk) s = checkGrid();
     if (s == Status::kOk) s = grid_.encoding == fmt::Encoding::kDense ? checkDense() : checkBricked();
+    if (s == Status::kOk) s = checkLift();
     if (s != Status::kOk) return s;
     view_.data_ = data_;
     view_.size_ = size_;
@@ -148,6 +149,7 @@ private:
     case fmt::kTagDense: return &dense_section_;
     case fmt::kTagBrickTop: return &top_section_;
     case fmt::kTagBrickPool: return &pool_section_;
+    case fmt::kTagLift: return &lift_section_;
     default: return nullptr;
     }
   }
@@ -156,13 +158,14 @@ private:
   Status checkDense();
   Status checkBricked();
   Status checkTopEntries(std::uint64_t pool_bricks);
+  Status checkLift();
 
   const std::uint8_t* data_;
   std::size_t size_;
   Diagnostic* diag_;
   fmt::FileHeader header_{};
   std::uint64_t table_end_ = 0;
-  Found grid_section_, meta_section_, dense_section_, top_section_, pool_section_;
+  Found grid_section_, meta_section_, dense_section_, top_section_, pool_section_, lift_section_;
   GridInfo grid_;
   View view_;
 };
@@ -294,6 +297,22 @@ Status ViewBuilder::checkTopEntries(std::uint64_t pool_bricks) {
     }
   }
   view_.tiles_ = counts;
+  return Status::kOk;
+}
+
+// V17 (1.2): the optional LIFT section holds one int16 per voxel (dense) or per tile and pool word
+// (bricked); every int16 is a valid lift.
+Status ViewBuilder::checkLift() {
+  if (!lift_section_.present) return Status::kOk;
+  const std::uint64_t entries = grid_.encoding == fmt::Encoding::kDense
+                                    ? dense_section_.copy.size / sizeof(fmt::DenseVoxel)
+                                    : top_section_.copy.size / 8 + pool_section_.copy.size / 4;
+  if (lift_section_.copy.size != entries * 2)
+    return fail(Status::kBadPayloadSize, "V17", "LIFT has %llu bytes, the grid needs %llu lifts of 2 bytes",
+                (unsigned long long)lift_section_.copy.size, (unsigned long long)entries);
+  view_.lift_ = reinterpret_cast<const std::int16_t*>(at(lift_section_.copy.offset));
+  if (grid_.encoding == fmt::Encoding::kBricked) view_.lift_pool_ = view_.lift_ + top_section_.copy.size / 8;
+  view_.lift_step_ = fmt::liftStep(grid_.band);
   return Status::kOk;
 }
 

@@ -2,7 +2,8 @@
 //
 // Nearest: the voxel that contains p; its distance is refined with the voxel's own plane,
 // d = d_v + n_v . (p - c_v), so the answer varies smoothly inside a voxel instead of in steps
-// (docs/DESIGN.md §3). Trilinear: the eight voxel centres around p, blended. Both work in "voxel units"
+// (docs/DESIGN.md §3). Trilinear: the eight voxel centres around p, blended. Accurate: the same eight,
+// lifted and corrected by half their planes (below). All work in "voxel units"
 // u = (p - origin) / voxel_size, where voxel (i, j, k) spans [i, i + 1) and its centre is i + 0.5.
 // Open-time validation guarantees every index and value used here; the only check left is whether
 // p lies inside the grid, written so a NaN coordinate fails it.
@@ -93,34 +94,148 @@ template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearest(Vec3f p
   return finish(v.distance + grid_.voxel_size * dot(v.normal, within), v.normal);
 }
 
+namespace {
+
+// The eight voxel centres around a point at voxel units u, and the point's place between them. The
+// stencil is clamped to the grid, so edge voxels extrapolate flat.
+struct Stencil {
+  std::uint32_t lo[3], hi[3];
+  float t[3];
+
+  std::uint32_t index(int corner, int axis) const { return (corner >> axis) & 1 ? hi[axis] : lo[axis]; }
+  float along(int corner, int axis) const { return (corner >> axis) & 1 ? t[axis] : 1.0f - t[axis]; }
+  float weight(int corner) const { return along(corner, 0) * along(corner, 1) * along(corner, 2); }
+  /// d weight / d u: the weight with the axis' own factor replaced by its slope, +-1.
+  Vec3f weightSlope(int corner) const {
+    const float s[3] = {(corner & 1) ? 1.0f : -1.0f, (corner & 2) ? 1.0f : -1.0f, (corner & 4) ? 1.0f : -1.0f};
+    return {s[0] * along(corner, 1) * along(corner, 2), along(corner, 0) * s[1] * along(corner, 2),
+            along(corner, 0) * along(corner, 1) * s[2]};
+  }
+};
+
+DNG_FORCE_INLINE Stencil stencilAt(const float u[3], const std::uint32_t dims[3]) {
+  Stencil s;
+  for (int a = 0; a < 3; ++a) {
+    // Centres sit at i + 0.5.
+    const float c = maxOf(u[a] - 0.5f, 0.0f);
+    s.lo[a] = std::uint32_t(c);
+    s.hi[a] = s.lo[a] + 1 < dims[a] ? s.lo[a] + 1 : s.lo[a];
+    s.t[a] = minOf(c - float(s.lo[a]), 1.0f);
+  }
+  return s;
+}
+
+} // namespace
+
 template <fmt::Encoding kEncoding> Sample View::trilinear(Vec3f p) const {
   float u[3];
   if (!toVoxelUnits(p, u)) return noField();
-  std::uint32_t lo[3], hi[3];
-  float t[3];
-  for (int a = 0; a < 3; ++a) {
-    // Centres sit at i + 0.5; clamp the stencil to the grid so edge voxels extrapolate flat.
-    const float c = maxOf(u[a] - 0.5f, 0.0f);
-    lo[a] = std::uint32_t(c);
-    hi[a] = lo[a] + 1 < grid_.dims[a] ? lo[a] + 1 : lo[a];
-    t[a] = minOf(c - float(lo[a]), 1.0f);
-  }
+  const Stencil s = stencilAt(u, grid_.dims);
   float distance = 0.0f;
   Vec3f normal;
   for (int corner = 0; corner < 8; ++corner) {
-    const float w =
-        ((corner & 1) ? t[0] : 1.0f - t[0]) * ((corner & 2) ? t[1] : 1.0f - t[1]) * ((corner & 4) ? t[2] : 1.0f - t[2]);
-    const VoxelValue v =
-        voxelValue<kEncoding>((corner & 1) ? hi[0] : lo[0], (corner & 2) ? hi[1] : lo[1], (corner & 4) ? hi[2] : lo[2]);
+    const float w = s.weight(corner);
+    const VoxelValue v = voxelValue<kEncoding>(s.index(corner, 0), s.index(corner, 1), s.index(corner, 2));
     distance += w * v.distance;
     normal = normal + v.normal * w;
   }
   return finish(distance, normalizeOrZero(normal));
 }
 
+// The LIFT section's value for voxel (i, j, k): 0 without the section and on far tiles.
+template <> float View::liftAt<fmt::Encoding::kDense>(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+  if (lift_ == nullptr) return 0.0f;
+  return float(lift_[(std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i]) * lift_step_;
+}
+
+template <> float View::liftAt<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
+  if (lift_ == nullptr) return 0.0f;
+  const std::uint32_t s = brick_log2_;
+  const std::size_t tile = (std::size_t(k >> s) * grid_.brick_dims[1] + (j >> s)) * grid_.brick_dims[0] + (i >> s);
+  const std::uint64_t entry = top_[tile];
+  if (fmt::entryKind(entry) == fmt::TileKind::kPlane) return float(lift_[tile]) * lift_step_;
+  if (fmt::entryKind(entry) != fmt::TileKind::kBrick) return 0.0f;
+  const std::uint32_t mask = (1u << s) - 1;
+  const std::size_t local = (std::size_t(k & mask) << (2 * s)) | (std::size_t(j & mask) << s) | (i & mask);
+  return float(lift_pool_[(std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + local]) * lift_step_;
+}
+
+namespace {
+
+// One corner of the accurate query's stencil: its (lifted) distance and normal, and p - centre in
+// voxel units.
+struct Corner {
+  float distance;
+  Vec3f normal;
+  Vec3f to_p;
+  bool in_band;
+};
+
+// A corner beyond the band knows only that |D| >= band, and its zero normal would bend the blend's
+// gradient: near the band's edge the stencil (up to sqrt(3) voxels across) reaches past it. Such a
+// corner takes the mean of its in-band neighbours' planes at its centre, kept beyond the band, and
+// their mean normal: what a smooth surface continues as.
+void extendPastTheBand(Corner corners[8], float band, float voxel) {
+  int in_band = 0;
+  for (int c = 0; c < 8; ++c)
+    in_band += corners[c].in_band ? 1 : 0;
+  if (in_band == 0 || in_band == 8) return;
+  for (int far = 0; far < 8; ++far) {
+    if (corners[far].in_band) continue;
+    float planes = 0.0f;
+    Vec3f normals;
+    for (int near = 0; near < 8; ++near) {
+      const Corner& c = corners[near];
+      if (!c.in_band) continue;
+      planes += c.distance + voxel * dot(c.normal, c.to_p - corners[far].to_p);
+      normals = normals + c.normal;
+    }
+    const float mean = planes / float(in_band);
+    corners[far].distance = corners[far].distance > 0.0f ? maxOf(mean, band) : minOf(mean, -band);
+    corners[far].normal = normalizeOrZero(normals);
+  }
+}
+
+} // namespace
+
+// Each corner's distance, lifted, plus half its plane's rise towards p, blended trilinearly. For a
+// smooth distance D the plain blend of D errs by +1/2 sum w (p-c)^T H (p-c) and the blend of the full
+// planes by minus the same, so the half-way blend cancels the second-order term (docs/RUNTIME.md).
+// The normal is the gradient of that blend: consistent with the distance across creases and medial
+// axes, where blending the corners' normals mixes the two sides (measured: bench/accuracy_bench.cpp).
+template <fmt::Encoding kEncoding> Sample View::accurate(Vec3f p) const {
+  float u[3];
+  if (!toVoxelUnits(p, u)) return noField();
+  const Stencil s = stencilAt(u, grid_.dims);
+  Corner corners[8];
+  for (int corner = 0; corner < 8; ++corner) {
+    const std::uint32_t i = s.index(corner, 0), j = s.index(corner, 1), k = s.index(corner, 2);
+    const VoxelValue v = voxelValue<kEncoding>(i, j, k);
+    const bool in_band = std::fabs(v.distance) < grid_.band;
+    corners[corner] = {in_band ? v.distance + liftAt<kEncoding>(i, j, k) : v.distance,
+                       v.normal,
+                       {u[0] - float(i) - 0.5f, u[1] - float(j) - 0.5f, u[2] - float(k) - 0.5f},
+                       in_band};
+  }
+  extendPastTheBand(corners, grid_.band, grid_.voxel_size);
+  const float half_voxel = 0.5f * grid_.voxel_size;
+  float distance = 0.0f;
+  Vec3f slope; // d distance / d u; only its direction is used
+  for (int corner = 0; corner < 8; ++corner) {
+    const Corner& c = corners[corner];
+    const float value = c.distance + half_voxel * dot(c.normal, c.to_p);
+    const float w = s.weight(corner);
+    distance += w * value;
+    slope = slope + s.weightSlope(corner) * value + c.normal * (w * half_voxel);
+  }
+  return finish(distance, normalizeOrZero(slope));
+}
+
 Sample View::sample(Vec3f p, Interpolation mode) const {
   if (!valid()) return noField();
   const bool dense = dense_ != nullptr;
+  if (mode == Interpolation::kAccurate)
+    return dense ? accurate<fmt::Encoding::kDense>(p) : accurate<fmt::Encoding::kBricked>(p);
   if (mode == Interpolation::kTrilinear)
     return dense ? trilinear<fmt::Encoding::kDense>(p) : trilinear<fmt::Encoding::kBricked>(p);
   return dense ? nearest<fmt::Encoding::kDense>(p) : nearest<fmt::Encoding::kBricked>(p);
@@ -148,6 +263,10 @@ void View::sampleBatch(const float* points, std::size_t point_stride_bytes, std:
   if (!valid()) {
     for (std::size_t n = 0; n < count; ++n)
       out_samples[n] = noField();
+  } else if (mode == Interpolation::kAccurate && dense_ != nullptr) {
+    forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return accurate<fmt::Encoding::kDense>(p); });
+  } else if (mode == Interpolation::kAccurate) {
+    forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return accurate<fmt::Encoding::kBricked>(p); });
   } else if (mode == Interpolation::kTrilinear && dense_ != nullptr) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kDense>(p); });
   } else if (mode == Interpolation::kTrilinear) {

@@ -2,6 +2,8 @@
 
 #include "analytic_fields.h"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -19,6 +21,29 @@ std::vector<std::uint8_t> smallBrickedBox(std::string_view metadata) {
   options.brick_size = 4;
   const auto result =
       format::encodeBricked(sampleField(grid, boxField({0, 0, 0}, {6.25f, 6.25f, 6.25f})), options, metadata);
+  if (!result.ok()) throw std::runtime_error(result.error);
+  return result.bytes;
+}
+
+format::DenseField loweredBoxField() {
+  const format::GridGeometry grid = cubeGrid({-12, -12, -12}, 1.0f, 24, 2.0f);
+  format::DenseField field = sampleField(grid, boxField({0, 0, 0}, {6.25f, 6.25f, 6.25f}));
+  field.accurate = field.distance;
+  for (std::uint32_t k = 0; k < grid.dims[2]; ++k)
+    for (std::uint32_t j = 0; j < grid.dims[1]; ++j)
+      for (std::uint32_t i = 0; i < grid.dims[0]; ++i) {
+        float& d = field.distance[grid.index(i, j, k)];
+        const Vec3f c = grid.voxelCentre(i, j, k);
+        const float lowering = (0.3f + 0.25f * std::sin(1.7f * c.x + 0.9f * c.y - 1.3f * c.z)) * grid.voxel_size;
+        if (std::fabs(d) < grid.band) d = std::max(d - lowering, std::min(d, -0.98f * grid.band));
+      }
+  return field;
+}
+
+std::vector<std::uint8_t> smallBrickedBoxLifted() {
+  format::BrickOptions options;
+  options.brick_size = 4;
+  const auto result = format::encodeBricked(loweredBoxField(), options, R"({"test":"small bricked box, lifted"})");
   if (!result.ok()) throw std::runtime_error(result.error);
   return result.bytes;
 }

@@ -20,6 +20,12 @@ std::vector<std::uint8_t> smallBrickedBox();
 std::vector<std::uint8_t> smallBrickedBox(std::string_view metadata);
 /// 6x5x4 dense tilted-plane field with metadata.
 std::vector<std::uint8_t> smallDensePlane();
+/// smallBrickedBox's field lowered in the band by 0.05 to 0.55 voxel, varying in space, as a
+/// conservative-planes producer lowers it (inside it stops above -band), with the exact distances as
+/// the accurate ones: encoded, it has a LIFT section.
+format::DenseField loweredBoxField();
+/// loweredBoxField() encoded as smallBrickedBox is, with metadata.
+std::vector<std::uint8_t> smallBrickedBoxLifted();
 
 /// Byte offset of the table entry of the first section with `tag`, or 0 when absent.
 std::size_t entryOffset(const std::vector<std::uint8_t>& bytes, std::uint32_t tag);

@@ -86,6 +86,7 @@ typedef struct dng_field dng_field;
 
 #define DNG_INTERPOLATION_NEAREST 0
 #define DNG_INTERPOLATION_TRILINEAR 1
+#define DNG_INTERPOLATION_ACCURATE 2 /* closest to the true distance; not a bound (docs/RUNTIME.md) */
 
 /** One query result; see docs/RUNTIME.md for what each status means. */
 typedef struct dng_sample {

@@ -77,6 +77,9 @@ struct BakeOptions {
   format::Encoding encoding = format::Encoding::kBricked;
   format::BrickOptions brick;
   std::uint32_t threads = 0; ///< 0 = all cores; the output never depends on it
+  /// Write the LIFT section: what takes the lowered (conservative) distances back to the accurate ones
+  /// for Interpolation::kAccurate queries. About a third of a bricked file; the step never reads it.
+  bool lift = true;
 };
 
 /// Limits checkBakeOptions enforces.

@@ -131,6 +131,17 @@ inline float rangeValue(std::uint32_t q16, float band, float step) {
 }
 inline float rangeValue(std::uint32_t q16, float band) { return rangeValue(q16, band, rangeStep(band)); }
 
+/// Step of the LIFT section's int16 codes (since 1.2): lifts reach +-2 band, which undoes any lowering
+/// (lowered values stop above -band) in steps of band / 16384, about 1e-4 voxel for a typical band.
+inline float liftStep(float band) { return band * (1.0f / 16384.0f); }
+
+/// The code for a lift, rounded to nearest and clamped to the int16 range (lifts are for accuracy,
+/// not for bounds: rounding either way is fine).
+inline std::int16_t liftCode(float lift, float band) {
+  const float code = std::round(lift / liftStep(band));
+  return std::int16_t(code > 32767.0f ? 32767.0f : code < -32767.0f ? -32767.0f : code);
+}
+
 /// Step between consecutive 10-bit distance codes of a brick whose range is [lo, hi].
 inline float brickDistanceStep(float lo, float hi) { return (hi - lo) * (1.0f / float(kWordDistanceMax)); }
 

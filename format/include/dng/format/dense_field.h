@@ -37,12 +37,16 @@ struct DenseField {
   GridGeometry grid;
   std::vector<float> distance;
   std::vector<Vec3f> normal;
+  /// Optional: empty, or one entry per voxel holding the distance before the producer lowered it
+  /// into `distance` (conservative planes). When present the writers add a LIFT section.
+  std::vector<float> accurate;
 
   /// Sizes both arrays for `geometry`, far outside (+band) with zero normals.
   void reset(const GridGeometry& geometry) {
     grid = geometry;
     distance.assign(grid.voxelCount(), grid.band);
     normal.assign(grid.voxelCount(), Vec3f{});
+    accurate.clear();
   }
 };
 

@@ -34,6 +34,14 @@ public:
   /// Writes box.count() distances and normals, x fastest, then y, then z. Normals of far voxels
   /// may be zero.
   virtual void read(const VoxelBox& box, float* distance, Vec3f* normal) const = 0;
+  /// True when readAccurate() has values: the encoders then write a LIFT section (docs/FORMAT.md §5.2).
+  virtual bool hasAccurate() const { return false; }
+  /// Writes box.count() distances as they were before the producer lowered them into the values read()
+  /// returns (conservative planes), x fastest. Called only when hasAccurate(); same threading as read().
+  virtual void readAccurate(const VoxelBox& box, float* distance) const {
+    (void)box;
+    (void)distance;
+  }
   /// A shortcut for empty space: kUnknown unless the source knows the whole box is far on one side.
   /// A source may always answer kUnknown; a wrong answer other than kUnknown is a bug.
   virtual FarHint farHint(const VoxelBox& box) const {
@@ -55,6 +63,13 @@ public:
           *distance++ = field_.distance[v];
           *normal++ = field_.normal[v];
         }
+  }
+  bool hasAccurate() const override { return !field_.accurate.empty(); }
+  void readAccurate(const VoxelBox& box, float* distance) const override {
+    for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
+      for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
+        for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
+          *distance++ = field_.accurate[field_.grid.index(i, j, k)];
   }
 
 private:

@@ -22,7 +22,7 @@ inline constexpr unsigned char kMagic[8] = {0x89, 'D', 'N', 'G', '\r', '\n', 0x1
 /// A major bump breaks compatibility; a minor bump only adds (new optional sections, new fields in
 /// reserved bytes that older readers may ignore).
 inline constexpr std::uint16_t kVersionMajor = 1;
-inline constexpr std::uint16_t kVersionMinor = 1; ///< 1.1: GridSection::flags
+inline constexpr std::uint16_t kVersionMinor = 2; ///< 1.1: GridSection::flags; 1.2: the LIFT section
 
 inline constexpr std::uint32_t kHeaderSize = 128;
 inline constexpr std::uint32_t kSectionAlignment = 64;
@@ -42,6 +42,10 @@ inline constexpr std::uint32_t kTagMetadata = makeTag('M', 'E', 'T', 'A');  ///<
 inline constexpr std::uint32_t kTagDense = makeTag('D', 'E', 'N', 'S');     ///< DenseVoxel[]
 inline constexpr std::uint32_t kTagBrickTop = makeTag('B', 'T', 'O', 'P');  ///< u64 top entries
 inline constexpr std::uint32_t kTagBrickPool = makeTag('B', 'P', 'O', 'L'); ///< u32 voxel words
+/// Optional, since 1.2: int16 lifts that give back the distances as they were before the planes were
+/// lowered (docs/FORMAT.md §5.2). Bricked: one per BTOP entry, then one per BPOL word, in their orders.
+/// Dense: one per voxel, x fastest. A lift's value is code * liftStep(band) (codec.h).
+inline constexpr std::uint32_t kTagLift = makeTag('L', 'I', 'F', 'T');
 
 /// File header: 128 bytes at offset 0.
 struct FileHeader {

@@ -65,6 +65,8 @@ struct EncodeStats {
   std::uint64_t band_voxels = 0;
   float max_distance_error_voxels = 0.0f;
   float max_normal_error_deg = 0.0f;
+  /// With a LIFT section: the largest |decoded + lift - accurate| over band voxel centres, in voxels.
+  float max_lifted_error_voxels = 0.0f;
   std::uint64_t payload_bytes = 0; ///< bytes of the payload sections (excluding GRID and META)
 };
 
