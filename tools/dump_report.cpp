@@ -71,6 +71,7 @@ Json reportJson(const std::string& path, const View& view) {
   j["band_voxels"] = g.band / g.voxel_size;
   j["guaranteed_reach"] = view.guaranteedReach();
   j["conservative_planes"] = view.conservativePlanes();
+  j["lift"] = view.hasLift();
   const TileCounts& t = view.tileCounts();
   j["tiles"] = {{"far_outside", t.far_outside}, {"far_inside", t.far_inside}, {"plane", t.plane}, {"brick", t.brick}};
   j["voxels_in_band"] = band;
@@ -104,6 +105,9 @@ void printSummary(std::FILE* out, const std::string& path, const View& view) {
   std::fprintf(out, "  planes     %s\n",
                view.conservativePlanes() ? "conservative (a lower bound of the distance over each voxel)"
                                          : "as written (no conservative-plane promise)");
+  std::fprintf(out, "  lift       %s\n",
+               view.hasLift() ? "yes (accurate queries read the distances from before any lowering)"
+                              : "none (accurate queries read the stored distances)");
   if (g.encoding == format::Encoding::kBricked) {
     const TileCounts& t = view.tileCounts();
     std::fprintf(out, "  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",

@@ -1,4 +1,4 @@
-// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V17). After it succeeds, every
+// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V16 and V19). After it succeeds, every
 // offset, size and brick index the query path uses is known to be in range, and every float it
 // reads is finite, so queries need no checks beyond clamping the position.
 #include "diagnostic.h"
@@ -300,7 +300,7 @@ Status ViewBuilder::checkTopEntries(std::uint64_t pool_bricks) {
   return Status::kOk;
 }
 
-// V17 (1.2): the optional LIFT section holds one int16 per voxel (dense) or per tile and pool word
+// V19 (1.2): the optional LIFT section holds one int16 per voxel (dense) or per tile and pool word
 // (bricked); every int16 is a valid lift.
 Status ViewBuilder::checkLift() {
   if (!lift_section_.present) return Status::kOk;
@@ -308,7 +308,7 @@ Status ViewBuilder::checkLift() {
                                     ? dense_section_.copy.size / sizeof(fmt::DenseVoxel)
                                     : top_section_.copy.size / 8 + pool_section_.copy.size / 4;
   if (lift_section_.copy.size != entries * 2)
-    return fail(Status::kBadPayloadSize, "V17", "LIFT has %llu bytes, the grid needs %llu lifts of 2 bytes",
+    return fail(Status::kBadPayloadSize, "V19", "LIFT has %llu bytes, the grid needs %llu lifts of 2 bytes",
                 (unsigned long long)lift_section_.copy.size, (unsigned long long)entries);
   view_.lift_ = reinterpret_cast<const std::int16_t*>(at(lift_section_.copy.offset));
   if (grid_.encoding == fmt::Encoding::kBricked) view_.lift_pool_ = view_.lift_ + top_section_.copy.size / 8;
