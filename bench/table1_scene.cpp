@@ -22,6 +22,9 @@ bool bakeField(const std::string& path, format::Encoding encoding, File* out, ba
   baker::BakeOptions options;
   options.resolution = kResolution;
   options.encoding = encoding;
+  // The step never reads the LIFT section (accurate queries do): a game that only steps particles bakes
+  // with --no-lift, and the memory column is what the step needs.
+  options.lift = false;
   const std::string dng = (std::filesystem::temp_directory_path() /
                            ("dng_table1_" + std::to_string(::getpid()) + "_" + std::to_string(int(encoding)) + ".dng"))
                               .string();
