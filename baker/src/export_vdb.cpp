@@ -1,6 +1,8 @@
 // --export-vdb: the baked band as OpenVDB grids, for a look in Houdini or Blender. The working store
-// already is a level set ("distance", background = band) and a normal grid in the right placement,
-// so exporting is writing them.
+// already is a level set (background = band) and a normal grid in the right placement, so exporting is
+// writing them. "distance" is the distance itself: the copy kept from before the conservative lowering
+// when there is one (the LIFT section's source), and then the lowered values go beside it as
+// "conservative_distance", what the runtime's nearest query reads.
 #include "band_grid_vdb.h"
 #include "stages.h"
 
@@ -16,7 +18,14 @@ BakeStatus exportVdb(const BandGrid& band, const std::string& path) {
   const std::string temp = path + ".tmp." + std::to_string(::getpid());
   try {
     openvdb::io::File file(temp);
-    file.write({band.impl().distance, band.impl().normal});
+    const BandGrid::Impl& grids = band.impl();
+    if (grids.accurate == nullptr) {
+      file.write({grids.distance, grids.normal});
+    } else {
+      openvdb::FloatGrid::Ptr lowered = grids.distance->copy(); // shares the tree, own name
+      lowered->setName("conservative_distance");
+      file.write({grids.accurate, lowered, grids.normal});
+    }
     file.close();
   } catch (const std::exception& e) {
     std::remove(temp.c_str());
