@@ -10,7 +10,9 @@
 // BodyIndex::Impl::cellOf's operations in its order, so both find the same cells), and a listed body
 // is kept when its box passes NearBodies::forEach's test for any lane. A lane whose position or move
 // is not a number (the index would list every body), whose move crosses many cells, or whose bodies
-// do not fit a NearList leaves the chunk for the scalar path.
+// do not fit a NearList leaves the chunk for the scalar path; so does one that meets a body no other
+// lane of the chunk meets (keepShared: what the lanes would do for that body serves one particle, as
+// when particles in random order are each near a different body).
 #pragma once
 
 #include "lanes.h"
@@ -53,16 +55,17 @@ DNG_LANE_INLINE M meets(const Box& box, V3 lo, V3 hi) {
            (lo.y > splat(box.hi.y)) | (lo.z > splat(box.hi.z)));
 }
 
-// Adds body b to the increasing list, once; false when the list is full without it.
-DNG_LANE_INLINE bool insert(std::int32_t b, NearList* io) {
+// Adds body b, which the lanes `lanes` meet, to the increasing list, once; false when the list is full
+// without it.
+DNG_LANE_INLINE bool insert(std::int32_t b, std::uint32_t lanes, NearList* io) {
   std::size_t k = io->count;
   while (k > 0 && io->index[k - 1] > b)
     --k;
   if (k > 0 && io->index[k - 1] == b) return true;
   if (io->count == NearList::kCapacity) return false;
   for (std::size_t j = io->count; j > k; --j)
-    io->index[j] = io->index[j - 1];
-  io->index[k] = b;
+    io->index[j] = io->index[j - 1], io->lanes[j] = io->lanes[j - 1];
+  io->index[k] = b, io->lanes[k] = lanes;
   ++io->count;
   return true;
 }
@@ -74,7 +77,7 @@ DNG_LANE_INLINE void listBodies(const IndexGrid& g, const std::uint32_t* bodies,
   for (std::size_t k = 0; k < count; ++k) {
     const std::uint32_t b = bodies[k];
     const M m = *io_live & meets(g.boxes[b].box[int(which)], lo, hi);
-    if (any(m) && !insert(std::int32_t(b), out)) *io_live = andNot(*io_live, m);
+    if (any(m) && !insert(std::int32_t(b), bits(m), out)) *io_live = andNot(*io_live, m);
   }
 }
 
@@ -134,6 +137,32 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, BodyBox which, V3 lo, V3 hi, M li
     pending &= ~(single & bits(cell == splatI(cells[lane])));
   }
   return live;
+}
+
+/// A listed body costs the lanes its preparation and samples and walks as wide as the chunk, once for
+/// all the lanes that meet it: a body fewer lanes meet than this costs more in lanes than on the scalar
+/// path (measured with bench/many_bodies_bench: particles in random order meet a building alone, in
+/// lattice order with the lanes of their chunk; 2, 3 and 4 gave the same lattice times, 2 the best city).
+constexpr int kMinSharedLanes = 2;
+
+/// Sends to the scalar path the live lanes that meet a listed body fewer than kMinSharedLanes live
+/// lanes meet, and drops the bodies no live lane meets any more. Returns the lanes left live: the list
+/// still holds every body it held for them, so the choice is only about speed.
+DNG_LANE_INLINE M keepShared(M live, NearList* io) {
+  const std::uint32_t was = bits(live);
+  std::uint32_t keep = was;
+  for (std::size_t k = 0; k < io->count; ++k) {
+    const std::uint32_t lanes = io->lanes[k] & was;
+    if (__builtin_popcount(lanes) < kMinSharedLanes) keep &= ~lanes;
+  }
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < io->count; ++k) {
+    if ((io->lanes[k] & keep) == 0) continue;
+    io->index[kept] = io->index[k], io->lanes[kept] = io->lanes[k] & keep;
+    ++kept;
+  }
+  io->count = kept;
+  return live & laneMask(keep);
 }
 
 /// Gives each listed body its numbers: those of the chunk's response list where it has the body (and

@@ -312,11 +312,11 @@ DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch,
 
 // A chunk's bodies for one phase: every body, or those the broadphase has near the lanes' boxes
 // [lo, hi] (BodyBox::kBounds: the points, for the responses; kGrown: the moves' boxes, for the walks).
-// Lanes whose bodies do not all fit leave *io_live.
+// Lanes whose bodies do not all fit, or that alone meet a body (keepShared), leave *io_live.
 DNG_LANE_INLINE const NearList& chunkBodies(const StepBatch& batch, BodyBox which, V3 lo, V3 hi,
                                             const NearList* responses, NearList* out, M* io_live) {
   if (batch.index == nullptr) return *batch.all;
-  *io_live = listNear(*batch.index, which, lo, hi, *io_live, out);
+  *io_live = keepShared(listNear(*batch.index, which, lo, hi, *io_live, out), out);
   prepareListed(batch, responses, out);
   return *out;
 }
