@@ -356,6 +356,67 @@ TEST(InstructionSet, StepGivesTheScalarResultsWithManyBodiesThroughAnIndex) {
     for (float& v : swarm.particles[n].velocity)
       v *= 25.0f;
   }
+  // Every other group of 8 close together, as particles kept in spatial order are: their chunks share
+  // bodies and step in lanes (a lane alone near a body goes to the scalar path).
+  for (std::size_t n = 0; n < swarm.particles.size(); ++n) {
+    const std::size_t first = n - n % 8;
+    if (first % 16 != 0 || n == first) continue;
+    for (int c = 0; c < 3; ++c)
+      swarm.particles[n].position[c] = swarm.particles[first].position[c] + 0.1f * unit(rng);
+  }
+  expectSameSteps(bodies, swarm, &index);
+}
+
+// Moves over several cells of the index list the bodies of every cell they cross: groups of 8
+// particles (a chunk of lanes) cross three walls of the index's cells at once, each group towards a
+// small body that stands just past the first, second or third of those walls (so none of the cells
+// before it lists it), along each axis both ways. A chunk that listed fewer cells than its moves cross
+// would let its lanes pass through the body where the scalar path stops them.
+TEST(InstructionSet, StepGivesTheScalarResultsWhenMovesCrossCellsOfAnIndex) {
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 6.0f, 4.0f});
+  Field sphere_field(sphere, false), box_field(box, true);
+  Material ghost; // the frame: no response, never walked through
+  ghost.response = Response::kNone;
+  const float identity[4] = {1, 0, 0, 0};
+  // The frame's box, [-20, 20] on every axis, is the scene's box; with 125 bodies the index cuts it
+  // into cubes of about 4 cells per body (broadphase.cpp cellEdge): 8 along each axis, of 40 / 500^(1/3).
+  std::vector<Body> bodies{makeBody(sphere_field.view, ghost)};
+  constexpr int kGroups = 124, kCells = 8;
+  const float edge = float(40.0 / std::cbrt(4.0 * (kGroups + 1)));
+  constexpr float kMove = 16.0f; // from 1 past a wall to 2 past the third wall after it (edges over 4.5)
+  auto wall = [&](int k) { return -20.0f + edge * float(k); };
+  std::mt19937 rng(23);
+  std::uniform_int_distribution<int> cell(0, kCells - 1), start_cell(3, 4); // 3 walls either way
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  Swarm swarm = randomSwarm(kGroups * 8, 24);
+  for (int group = 0; group < kGroups; ++group) {
+    const int axis = group % 3, ahead = 1 + (group / 6) % 3;
+    const float sign = (group / 3) % 2 == 0 ? 1.0f : -1.0f;
+    const int i = start_cell(rng);
+    Vec3f centre{wall(cell(rng)) + 0.5f * edge, wall(cell(rng)) + 0.5f * edge, wall(cell(rng)) + 0.5f * edge};
+    Vec3f at = centre; // the body: its box of 2 from 0.2 to 2.2 past the wall
+    float* start = &centre.x + axis;
+    float* body_at = &at.x + axis;
+    *start = sign > 0 ? wall(i) + 1.0f : wall(i + 1) - 1.0f;
+    *body_at = sign > 0 ? wall(i + ahead) + 1.2f : wall(i + 1 - ahead) - 1.2f;
+    Body body = makeBody(box_field.view, Material{});
+    ASSERT_EQ(body.setTransform(at, identity, 0.05f), Status::kOk);
+    bodies.push_back(body);
+    for (int lane = 0; lane < 8; ++lane) { // within the body's cross-section, 0.4 by at least 0.4
+      Particle& p = swarm.particles[std::size_t(group * 8 + lane)];
+      for (int c = 0; c < 3; ++c) {
+        p.position[c] = (&centre.x)[c] + (c == axis ? 0.2f : 0.1f) * unit(rng);
+        p.velocity[c] = c == axis ? sign * kMove / kDt : 0.0f;
+      }
+    }
+  }
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  std::uint32_t dims[3];
+  index.cellDims(dims);
+  for (std::uint32_t d : dims)
+    ASSERT_EQ(d, std::uint32_t(kCells));
   expectSameSteps(bodies, swarm, &index);
 }
 
