@@ -2,6 +2,7 @@
 // View::sampleBatch and stepParticles must give bit for bit the scalar results, on dense and bricked
 // fields, static and moving bodies, several bodies at once, every material rule and strided arrays.
 #include "analytic_fields.h"
+#include "dng/body_index.h"
 #include "dng/format/writer.h"
 #include "dng/instruction_set.h"
 #include "dng/particles.h"
@@ -210,27 +211,36 @@ void copyBack(const Packed& packed, Swarm* io) {
   io->body = packed.body;
 }
 
+// stepParticles with the index when there is one.
+Status stepWith(const ParticleSpan& span, const std::vector<Body>& bodies, const BodyIndex* index) {
+  if (index != nullptr) return stepParticles(span, kDt, bodies.data(), bodies.size(), *index);
+  return stepParticles(span, kDt, bodies.data(), bodies.size());
+}
+
 // Steps the same particles with the scalar path (strided) and with each SIMD set (strided and packed),
-// comparing everything after every step.
-void expectSameSteps(const std::vector<Body>& bodies, std::uint32_t seed) {
-  const Swarm start = randomSwarm(3001, seed);
+// comparing everything after every step; through `index` when it is not null.
+void expectSameSteps(const std::vector<Body>& bodies, const Swarm& start, const BodyIndex* index = nullptr) {
   for (InstructionSet set : simdSets()) {
     Swarm reference = start, strided = start;
     Packed packed(start);
     for (int step = 0; step < 25; ++step) {
       {
         ChosenSet scalar(InstructionSet::kScalar);
-        ASSERT_EQ(stepParticles(reference.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
+        ASSERT_EQ(stepWith(reference.span(), bodies, index), Status::kOk);
       }
       ChosenSet chosen(set);
-      ASSERT_EQ(stepParticles(strided.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
-      ASSERT_EQ(stepParticles(packed.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
+      ASSERT_EQ(stepWith(strided.span(), bodies, index), Status::kOk);
+      ASSERT_EQ(stepWith(packed.span(), bodies, index), Status::kOk);
       ASSERT_TRUE(sameParticles(strided, reference)) << instructionSetName(set) << " strided, step " << step;
       Swarm from_packed = start;
       copyBack(packed, &from_packed);
       ASSERT_TRUE(sameParticles(from_packed, reference)) << instructionSetName(set) << " packed, step " << step;
     }
   }
+}
+
+void expectSameSteps(const std::vector<Body>& bodies, std::uint32_t seed) {
+  expectSameSteps(bodies, randomSwarm(3001, seed));
 }
 
 Body makeBody(const View& view, const Material& material) {
@@ -292,6 +302,122 @@ TEST(InstructionSet, StepGivesTheScalarResultsWithSeveralBodiesAndEveryResponse)
     ASSERT_EQ(bodies[b].setTransform(places[b], identity, 0.9f), Status::kOk);
   bodies[2].setVelocity({0, -20.0f, 0}, {0, 0, 1.5f});
   expectSameSteps(bodies, 14);
+}
+
+// More bodies than the kernels take without an index: the chunks of lanes find theirs through it. A
+// lattice of overlapping bodies (moving, spinning, scaled; dense and bricked; every response), small
+// bodies scattered between them, a cluster of more bodies than a chunk lists (its lanes go to the
+// scalar path), and particles fast enough that their moves cross several cells.
+TEST(InstructionSet, StepGivesTheScalarResultsWithManyBodiesThroughAnIndex) {
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 6.0f, 4.0f});
+  Field sphere_field(sphere, false), box_field(box, true);
+  Material spring;
+  spring.response = Response::kSpring;
+  spring.drag = 1.0f;
+  spring.contact_distance = 2.0f;
+  Material swept = everyRule();
+  swept.swept = true;
+  Material ghost;
+  ghost.response = Response::kNone;
+  ghost.drag = 3.0f;
+  ghost.contact_distance = 2.0f;
+  const Material materials[] = {Material{}, everyRule(), spring, swept, ghost};
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::vector<Body> bodies;
+  for (int b = 0; b < 60; ++b) { // 5 x 4 x 3, 8 apart: neighbours' boxes overlap
+    const View& view = b % 3 == 0 ? box_field.view : sphere_field.view;
+    Body body = makeBody(view, materials[b % 5]);
+    const float q[4] = {1.0f, 0.3f * unit(rng), 0.3f * unit(rng), 0.3f * unit(rng)};
+    const Vec3f at{8.0f * float(b % 5) - 16.0f, 8.0f * float((b / 5) % 4) - 12.0f, 8.0f * float(b / 20) - 8.0f};
+    ASSERT_EQ(body.setTransform(at, q, 0.25f + 0.05f * float(b % 4)), Status::kOk);
+    if (b % 4 == 1) body.setVelocity({20.0f * unit(rng), 20.0f * unit(rng), 20.0f * unit(rng)}, {0, 0, 0});
+    if (b % 4 == 2) body.setVelocity({0, 0, 0}, {2.0f * unit(rng), 2.0f * unit(rng), 2.0f * unit(rng)});
+    bodies.push_back(body);
+  }
+  for (int b = 0; b < 20; ++b) { // more than a chunk can list, all at one place
+    Body body = makeBody(sphere_field.view, materials[b % 5]);
+    const float identity[4] = {1, 0, 0, 0};
+    ASSERT_EQ(body.setTransform({2.0f + 0.1f * float(b), -3.0f, 1.0f}, identity, 0.2f), Status::kOk);
+    bodies.push_back(body);
+  }
+  std::uniform_real_distribution<float> anywhere(-18.0f, 18.0f);
+  for (int b = 0; b < 60; ++b) { // small ones, each in a few cells: moves reach them across cell walls
+    Body body = makeBody(b % 2 == 0 ? box_field.view : sphere_field.view, materials[b % 5]);
+    const float identity[4] = {1, 0, 0, 0};
+    ASSERT_EQ(body.setTransform({anywhere(rng), anywhere(rng), anywhere(rng)}, identity, 0.06f), Status::kOk);
+    bodies.push_back(body);
+  }
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  Swarm swarm = randomSwarm(3001, 15);
+  for (std::size_t n = 0; n < swarm.particles.size(); n += 50) { // some 25 times faster
+    for (float& v : swarm.particles[n].velocity)
+      v *= 25.0f;
+  }
+  // Every other group of 8 close together, as particles kept in spatial order are: their chunks share
+  // bodies and step in lanes (a lane alone near a body goes to the scalar path).
+  for (std::size_t n = 0; n < swarm.particles.size(); ++n) {
+    const std::size_t first = n - n % 8;
+    if (first % 16 != 0 || n == first) continue;
+    for (int c = 0; c < 3; ++c)
+      swarm.particles[n].position[c] = swarm.particles[first].position[c] + 0.1f * unit(rng);
+  }
+  expectSameSteps(bodies, swarm, &index);
+}
+
+// Moves over several cells of the index list the bodies of every cell they cross: groups of 8
+// particles (a chunk of lanes) cross three walls of the index's cells at once, each group towards a
+// small body that stands just past the first, second or third of those walls (so none of the cells
+// before it lists it), along each axis both ways. A chunk that listed fewer cells than its moves cross
+// would let its lanes pass through the body where the scalar path stops them.
+TEST(InstructionSet, StepGivesTheScalarResultsWhenMovesCrossCellsOfAnIndex) {
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 6.0f, 4.0f});
+  Field sphere_field(sphere, false), box_field(box, true);
+  Material ghost; // the frame: no response, never walked through
+  ghost.response = Response::kNone;
+  const float identity[4] = {1, 0, 0, 0};
+  // The frame's box, [-20, 20] on every axis, is the scene's box; with 125 bodies the index cuts it
+  // into cubes of about 4 cells per body (broadphase.cpp cellEdge): 8 along each axis, of 40 / 500^(1/3).
+  std::vector<Body> bodies{makeBody(sphere_field.view, ghost)};
+  constexpr int kGroups = 124, kCells = 8;
+  const float edge = float(40.0 / std::cbrt(4.0 * (kGroups + 1)));
+  constexpr float kMove = 16.0f; // from 1 past a wall to 2 past the third wall after it (edges over 4.5)
+  auto wall = [&](int k) { return -20.0f + edge * float(k); };
+  std::mt19937 rng(23);
+  std::uniform_int_distribution<int> cell(0, kCells - 1), start_cell(3, 4); // 3 walls either way
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  Swarm swarm = randomSwarm(kGroups * 8, 24);
+  for (int group = 0; group < kGroups; ++group) {
+    const int axis = group % 3, ahead = 1 + (group / 6) % 3;
+    const float sign = (group / 3) % 2 == 0 ? 1.0f : -1.0f;
+    const int i = start_cell(rng);
+    Vec3f centre{wall(cell(rng)) + 0.5f * edge, wall(cell(rng)) + 0.5f * edge, wall(cell(rng)) + 0.5f * edge};
+    Vec3f at = centre; // the body: its box of 2 from 0.2 to 2.2 past the wall
+    float* start = &centre.x + axis;
+    float* body_at = &at.x + axis;
+    *start = sign > 0 ? wall(i) + 1.0f : wall(i + 1) - 1.0f;
+    *body_at = sign > 0 ? wall(i + ahead) + 1.2f : wall(i + 1 - ahead) - 1.2f;
+    Body body = makeBody(box_field.view, Material{});
+    ASSERT_EQ(body.setTransform(at, identity, 0.05f), Status::kOk);
+    bodies.push_back(body);
+    for (int lane = 0; lane < 8; ++lane) { // within the body's cross-section, 0.4 by at least 0.4
+      Particle& p = swarm.particles[std::size_t(group * 8 + lane)];
+      for (int c = 0; c < 3; ++c) {
+        p.position[c] = (&centre.x)[c] + (c == axis ? 0.2f : 0.1f) * unit(rng);
+        p.velocity[c] = c == axis ? sign * kMove / kDt : 0.0f;
+      }
+    }
+  }
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  std::uint32_t dims[3];
+  index.cellDims(dims);
+  for (std::uint32_t d : dims)
+    ASSERT_EQ(d, std::uint32_t(kCells));
+  expectSameSteps(bodies, swarm, &index);
 }
 
 } // namespace

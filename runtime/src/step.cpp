@@ -172,7 +172,8 @@ struct Stop {
 Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start, Vec3f end,
                const KeptSamples* kept) {
   Stop first;
-  // The box segmentNearBounds tests, so the broadphase lists every body the test can pass.
+  // The box segmentNearBounds tests, so the broadphase lists every body the test can pass (the lanes
+  // compute the same box: step_lanes.h).
   const Vec3f lo{minOf(start.x, end.x), minOf(start.y, end.y), minOf(start.z, end.z)};
   const Vec3f hi{maxOf(start.x, end.x), maxOf(start.y, end.y), maxOf(start.z, end.z)};
   near.forEach(lo, hi, BodyBox::kGrown, [&](std::size_t b) {
@@ -273,17 +274,18 @@ void stepOne(const void* context, std::size_t n) {
   if (particles.out_body != nullptr) particles.out_body[n] = touch.body;
 }
 
-// The batch kernels take up to kMaxBatchBodies bodies whose fields they can index; null otherwise.
-const BatchKernels* kernelsFor(const Body* bodies, std::size_t body_count) {
+// The batch kernels take up to kMaxBatchBodies bodies, or any number through an index, whose fields
+// they can index; null otherwise.
+const BatchKernels* kernelsFor(const Body* bodies, std::size_t body_count, bool indexed) {
   const BatchKernels* kernels = activeBatchKernels();
-  if (kernels == nullptr || body_count > kMaxBatchBodies) return nullptr;
+  if (kernels == nullptr || (body_count > kMaxBatchBodies && !indexed)) return nullptr;
   for (std::size_t b = 0; b < body_count; ++b) {
     if (!batchIndexable(*bodies[b].field())) return nullptr;
   }
   return kernels;
 }
 
-// The same numbers the scalar path computes per particle, once per call.
+// The same numbers the scalar path computes per particle.
 StepBody prepare(const Body& body, const BodyMotions& motions, std::size_t index) {
   const View& field = *body.field();
   BodyMotion scratch;
@@ -304,6 +306,59 @@ StepBody prepare(const Body& body, const BodyMotions& motions, std::size_t index
   return out;
 }
 
+// StepBatch::prepare: body b's numbers, for a chunk of lanes that met it.
+void prepareFound(const void* context, std::size_t b, StepBody* out) {
+  const ScalarStep& step = *static_cast<const ScalarStep*>(context);
+  *out = prepare(step.bodies[b], *step.motions, b);
+}
+
+// The index's grid as the kernels read it.
+IndexGrid gridOf(const BodyIndex::Impl& index) {
+  IndexGrid g;
+  g.boxes = index.boxes.data();
+  g.cell_start = index.cell_start.data();
+  g.cell_bodies = index.cell_bodies.data();
+  g.everywhere = index.everywhere.data();
+  g.everywhere_count = index.everywhere.size();
+  g.inv_cell = index.inv_cell;
+  for (int a = 0; a < 3; ++a) {
+    g.origin[a] = index.origin[a];
+    g.last_cell[a] = index.last_cell[a];
+    g.dims[a] = index.dims[a];
+  }
+  g.scene_lo = index.scene_lo;
+  g.scene_hi = index.scene_hi;
+  return g;
+}
+
+// The step in lanes. With at most kMaxBatchBodies bodies the kernels test every body, prepared once:
+// with an index that is what it would list, and the results are the same either way. With more, the
+// chunks of lanes find theirs through the index (near_lanes.h).
+void stepInLanes(const BatchKernels& kernels, const ScalarStep& scalar, std::size_t body_count,
+                 const BodyIndex::Impl* index) {
+  StepBatch batch;
+  batch.particles = scalar.particles;
+  batch.dt = scalar.dt;
+  batch.scalar = &stepOne;
+  batch.context = &scalar;
+  if (body_count > kMaxBatchBodies) { // kernelsFor took it: there is an index
+    const IndexGrid grid = gridOf(*index);
+    batch.index = &grid;
+    batch.prepare = &prepareFound;
+    kernels.step(batch);
+    return;
+  }
+  NearList all;
+  all.count = body_count;
+  for (std::size_t b = 0; b < body_count; ++b) {
+    all.index[b] = all.kept[b] = std::int32_t(b);
+    all.storage[b] = prepare(scalar.bodies[b], *scalar.motions, b);
+    all.body[b] = &all.storage[b];
+  }
+  batch.all = &all;
+  kernels.step(batch);
+}
+
 // The step over checked arguments; `index` (may be null) was built for these bodies and dt.
 Status step(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
             const BodyIndex::Impl* index) {
@@ -320,13 +375,8 @@ Status step(const ParticleSpan& particles, float dt, const Body* bodies, std::si
   const BodyMotions motions(bodies, body_count, dt, index != nullptr ? index->motions.data() : nullptr);
   const NearBodies near(body_count, index);
   const ScalarStep scalar{&particles, dt, bodies, &near, &motions};
-  // The kernels test every body: with at most kMaxBatchBodies that is what the index would list, and
-  // the results are the same either way.
-  if (const BatchKernels* kernels = kernelsFor(bodies, body_count)) {
-    StepBody prepared[kMaxBatchBodies];
-    for (std::size_t b = 0; b < body_count; ++b)
-      prepared[b] = prepare(bodies[b], motions, b);
-    kernels->step({&particles, dt, prepared, body_count, &stepOne, &scalar});
+  if (const BatchKernels* kernels = kernelsFor(bodies, body_count, index != nullptr)) {
+    stepInLanes(*kernels, scalar, body_count, index);
     return Status::kOk;
   }
   for (std::size_t n = 0; n < particles.count; ++n)

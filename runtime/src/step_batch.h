@@ -2,18 +2,21 @@
 // the kernels' table. ISA-neutral: included by step.cpp and by each kernel translation unit.
 #pragma once
 
+#include "broadphase.h"
 #include "dng/particles.h"
 #include "pose.h"
 
 #include <cstddef>
+#include <cstdint>
 
 namespace dng {
 
-/// The batch kernels take calls with at most this many bodies; more go through the scalar loop.
+/// Without a broadphase the batch kernels take calls with at most this many bodies, and test every
+/// one for every lane; more go through the scalar loop. With one (dng/body_index.h), any number.
 constexpr std::size_t kMaxBatchBodies = 8;
 
-/// One body as the step sees it: both poses and the walk's constants, computed once per call with
-/// the same expressions the scalar path uses, so both paths compare the same numbers.
+/// One body as the step sees it: both poses and the walk's constants, computed with the same
+/// expressions the scalar path uses, so both paths compare the same numbers.
 struct StepBody {
   const Body* body = nullptr;
   bool dense = false;    ///< the field's encoding
@@ -26,15 +29,53 @@ struct StepBody {
   int max_samples = 0;
 };
 
+/// The bodies one chunk of lanes meets in one phase of the step (the responses, or the move), in
+/// increasing body index: the order the scalar path visits them in, so that ties between bodies
+/// resolve the same way. Each lane tests every listed body itself, with the scalar path's own tests,
+/// so a list may hold bodies a lane is nowhere near; it holds every body the scalar path would visit
+/// for each lane it is for.
+struct NearList {
+  static constexpr std::size_t kCapacity = 16;
+  std::size_t count = 0;
+  std::int32_t index[kCapacity];   ///< into the call's bodies
+  const StepBody* body[kCapacity]; ///< its numbers: in `storage`, or in another list of the chunk
+  /// A move's list: each body's place in the chunk's response list, -1 when it is not there (the
+  /// walk then takes a new sample at the start instead of the response's).
+  std::int32_t kept[kCapacity];
+  /// The broadphase's: the lanes whose boxes meet the body's box, one bit per lane.
+  std::uint32_t lanes[kCapacity];
+  StepBody storage[kCapacity];
+};
+static_assert(kMaxBatchBodies <= NearList::kCapacity, "a call without a broadphase lists every body");
+
+/// The broadphase's grid as the kernels read it: BodyIndex::Impl's arrays and numbers, copied out so
+/// that the kernels call none of its functions (broadphase.h says what each one is).
+struct IndexGrid {
+  const BodyBoxes* boxes = nullptr;
+  const std::uint32_t* cell_start = nullptr;
+  const std::uint32_t* cell_bodies = nullptr;
+  const std::uint32_t* everywhere = nullptr;
+  std::size_t everywhere_count = 0;
+  float origin[3] = {0, 0, 0};
+  float inv_cell = 1.0f;
+  float last_cell[3] = {0, 0, 0};
+  std::uint32_t dims[3] = {0, 0, 0};
+  Vec3f scene_lo, scene_hi;
+};
+
 /// One stepParticles call. `scalar` steps particle n alone with the reference path; a kernel calls
-/// it for every particle its lanes cannot finish (a walk that needs more than one ball).
+/// it for every particle its lanes cannot finish (a walk that needs more than one ball, bodies that do
+/// not fit a NearList).
 struct StepBatch {
   const ParticleSpan* particles = nullptr;
   float dt = 0.0f;
-  const StepBody* bodies = nullptr;
-  std::size_t body_count = 0; ///< 1..kMaxBatchBodies
+  /// Every body (1..kMaxBatchBodies), for every chunk and both phases; null when `index` is set.
+  const NearList* all = nullptr;
+  /// Else the broadphase the chunks find their bodies with, and what prepares a found body's numbers.
+  const IndexGrid* index = nullptr;
+  void (*prepare)(const void* context, std::size_t body, StepBody* out) = nullptr;
   void (*scalar)(const void* context, std::size_t n) = nullptr;
-  const void* context = nullptr;
+  const void* context = nullptr; ///< for `prepare` and `scalar`
 };
 
 /// The kernels of one instruction set.

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "dng/responses.h"
+#include "near_lanes.h"
 #include "sample_lanes.h"
 #include "step_batch.h"
 #include "strided.h"
@@ -88,30 +89,31 @@ DNG_LANE_INLINE M applyMaterial(const Material& m, M contact, F d, V3 n, float b
   return acted;
 }
 
-/// What the move needs from the responses: per body, the start point in its frame and the sample
-/// there (valid in the lanes the body's box holds).
+/// What the move needs from the responses: per body of the response list, the start point in its
+/// frame and the sample there (valid in the lanes the body's box holds).
 struct KeptLanes {
-  LaneSample sample[kMaxBatchBodies];
-  V3 local[kMaxBatchBodies];
-  M valid[kMaxBatchBodies];
+  LaneSample sample[NearList::kCapacity];
+  V3 local[NearList::kCapacity];
+  M valid[NearList::kCapacity];
 };
 
-// The responses of every body (step.cpp respondToBody), in body order. Fills the touched body and
-// distance, and keeps each body's sample.
-DNG_LANE_INLINE void respondLanes(const StepBatch& batch, LaneParticles* io, I* io_touch_body, KeptLanes* kept) {
+// The responses of the listed bodies (step.cpp respondToBody), in body order, for the lanes `live`.
+// Fills the touched body and distance, and keeps each body's sample.
+DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, M live, LaneParticles* io,
+                                  I* io_touch_body, KeptLanes* kept) {
   F touch_distance = splat(std::numeric_limits<float>::infinity());
-  for (std::size_t b = 0; b < batch.body_count; ++b) {
-    const StepBody& sb = batch.bodies[b];
+  for (std::size_t k = 0; k < list.count; ++k) {
+    const StepBody& sb = *list.body[k];
     const Body& body = *sb.body;
     const Vec3f lo = body.boundsMin(), hi = body.boundsMax();
     const V3 p = io->position;
-    const M in = (p.x >= splat(lo.x)) & (p.y >= splat(lo.y)) & (p.z >= splat(lo.z)) & (p.x <= splat(hi.x)) &
+    const M in = live & (p.x >= splat(lo.x)) & (p.y >= splat(lo.y)) & (p.z >= splat(lo.z)) & (p.x <= splat(hi.x)) &
                  (p.y <= splat(hi.y)) & (p.z <= splat(hi.z));
-    kept->valid[b] = in;
+    kept->valid[k] = in;
     if (!any(in)) continue;
-    kept->local[b] = toLocal(sb.start, p);
-    const LaneSample s = sampleBody(sb, kept->local[b], in);
-    kept->sample[b] = s;
+    kept->local[k] = toLocal(sb.start, p);
+    const LaneSample s = sampleBody(sb, kept->local[k], in);
+    kept->sample[k] = s;
     const M contact = in & s.in_band;
     if (!any(contact)) continue;
     const F d = s.distance * splat(body.scale());
@@ -124,7 +126,7 @@ DNG_LANE_INLINE void respondLanes(const StepBatch& batch, LaneParticles* io, I* 
     io->velocity = select(acted, relative + surface, io->velocity);
     const M nearer = acted & (d < touch_distance);
     touch_distance = select(nearer, d, touch_distance);
-    *io_touch_body = select(nearer, splatI(std::int32_t(b)), *io_touch_body);
+    *io_touch_body = select(nearer, splatI(list.index[k]), *io_touch_body);
   }
 }
 
@@ -244,18 +246,21 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 a, V3 end, const LaneSample* 
   return clear | (active & (t >= one));
 }
 
-DNG_LANE_INLINE M moveLanes(const StepBatch& batch, const LaneParticles& p, V3 end, const KeptLanes& kept) {
-  M done = allTrue();
-  for (std::size_t b = 0; b < batch.body_count && any(done); ++b) {
-    const StepBody& sb = batch.bodies[b];
+// The move's walks through the listed bodies, for the lanes `live`: the lanes every one proves clear.
+DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p, V3 end, const KeptLanes& kept) {
+  M done = live;
+  for (std::size_t k = 0; k < list.count && any(done); ++k) {
+    const StepBody& sb = *list.body[k];
     if (!sb.collides) continue;
     const M near = done & nearBounds(sb, p.position, end);
     if (!any(near)) continue;
     // The response kept the start's local position and sample where the body's box held the particle
     // (none kept: valid is all false, and sample and local were never written).
-    const bool has_kept = any(kept.valid[b]);
-    const V3 a = has_kept ? kept.local[b] : toLocal(sb.start, p.position);
-    done = done & walkLanes(sb, a, end, has_kept ? &kept.sample[b] : nullptr, kept.valid[b], near);
+    const std::int32_t r = list.kept[k];
+    const bool has_kept = r >= 0 && any(kept.valid[r]);
+    const M kept_valid = has_kept ? kept.valid[r] : andNot(live, live);
+    const V3 a = has_kept ? kept.local[r] : toLocal(sb.start, p.position);
+    done = done & walkLanes(sb, a, end, has_kept ? &kept.sample[r] : nullptr, kept_valid, near);
   }
   return done;
 }
@@ -305,24 +310,42 @@ DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch,
   }
 }
 
+// A chunk's bodies for one phase: every body, or those the broadphase has near the lanes' boxes
+// [lo, hi] (BodyBox::kBounds: the points, for the responses; kGrown: the moves' boxes, for the walks).
+// Lanes whose bodies do not all fit, or that alone meet a body (keepShared), leave *io_live.
+DNG_LANE_INLINE const NearList& chunkBodies(const StepBatch& batch, BodyBox which, V3 lo, V3 hi,
+                                            const NearList* responses, NearList* out, M* io_live) {
+  if (batch.index == nullptr) return *batch.all;
+  *io_live = keepShared(listNear(*batch.index, which, lo, hi, *io_live, out), out);
+  prepareListed(batch, responses, out);
+  return *out;
+}
+
 /// stepParticles over the whole span: lanes for what one ball settles, the scalar path for the rest
 /// and for the tail.
 inline void stepLanes(const StepBatch& batch) {
   const ParticleSpan& s = *batch.particles;
   const F dt = splat(batch.dt);
+  const unsigned every_lane = (1u << kWidth) - 1;
+  NearList responses, moves; // the broadphase's lists, refilled per chunk
   std::size_t n = 0;
   for (; n + kWidth <= s.count; n += kWidth) {
     LaneParticles p{loadLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n),
                     loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
+    M live = allTrue();
+    const NearList& respond = chunkBodies(batch, BodyBox::kBounds, p.position, p.position, nullptr, &responses, &live);
     I touch = splatI(-1);
     KeptLanes kept;
-    respondLanes(batch, &p, &touch, &kept);
+    respondLanes(batch, respond, live, &p, &touch, &kept);
     const V3 end = p.position + p.velocity * dt;
-    const unsigned done = bits(moveLanes(batch, p, end, kept));
+    const V3 lo{minOf(p.position.x, end.x), minOf(p.position.y, end.y), minOf(p.position.z, end.z)};
+    const V3 hi{maxOf(p.position.x, end.x), maxOf(p.position.y, end.y), maxOf(p.position.z, end.z)};
+    const NearList& walk = chunkBodies(batch, BodyBox::kGrown, lo, hi, &respond, &moves, &live);
+    const unsigned done = bits(moveLanes(walk, live, p, end, kept));
     storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, end, done);
     storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, done);
     storeTouches(s, n, touch, done);
-    const unsigned rest = done ^ ((1u << kWidth) - 1);
+    const unsigned rest = done ^ every_lane;
     for (int lane = 0; lane < kWidth; ++lane) {
       if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
     }
