@@ -261,6 +261,25 @@ Material everyRule() {
   return m;
 }
 
+// The other materials the multi-body scenes mix in: a spring with drag, everyRule swept, and a body
+// that only drags and steers (kNone: never walked through).
+struct OtherMaterials {
+  Material spring, swept, ghost;
+};
+
+OtherMaterials otherMaterials() {
+  OtherMaterials m;
+  m.spring.response = Response::kSpring;
+  m.spring.drag = 1.0f;
+  m.spring.contact_distance = 2.0f;
+  m.swept = everyRule();
+  m.swept.swept = true;
+  m.ghost.response = Response::kNone;
+  m.ghost.drag = 3.0f;
+  m.ghost.contact_distance = 2.0f;
+  return m;
+}
+
 TEST(InstructionSet, StepGivesTheScalarResultsOnAStaticBody) {
   const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
   for (bool dense : {false, true}) {
@@ -284,18 +303,9 @@ TEST(InstructionSet, StepGivesTheScalarResultsWithSeveralBodiesAndEveryResponse)
   const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
   const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 5.0f, 5.0f});
   Field sphere_field(sphere, false), box_field(box, true);
-  Material spring;
-  spring.response = Response::kSpring;
-  spring.drag = 1.0f;
-  spring.contact_distance = 2.0f;
-  Material swept = everyRule();
-  swept.swept = true;
-  Material ghost; // drag and flow only: never walked through
-  ghost.response = Response::kNone;
-  ghost.drag = 3.0f;
-  ghost.contact_distance = 2.0f;
-  std::vector<Body> bodies{makeBody(sphere_field.view, Material{}), makeBody(box_field.view, spring),
-                           makeBody(sphere_field.view, swept), makeBody(box_field.view, ghost)};
+  const OtherMaterials m = otherMaterials();
+  std::vector<Body> bodies{makeBody(sphere_field.view, Material{}), makeBody(box_field.view, m.spring),
+                           makeBody(sphere_field.view, m.swept), makeBody(box_field.view, m.ghost)};
   const float identity[4] = {1, 0, 0, 0};
   const Vec3f places[] = {{-9, 0, 0}, {9, 2, 0}, {0, 10, 3}, {0, -9, -2}};
   for (std::size_t b = 0; b < bodies.size(); ++b)
@@ -312,17 +322,8 @@ TEST(InstructionSet, StepGivesTheScalarResultsWithManyBodiesThroughAnIndex) {
   const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
   const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 6.0f, 4.0f});
   Field sphere_field(sphere, false), box_field(box, true);
-  Material spring;
-  spring.response = Response::kSpring;
-  spring.drag = 1.0f;
-  spring.contact_distance = 2.0f;
-  Material swept = everyRule();
-  swept.swept = true;
-  Material ghost;
-  ghost.response = Response::kNone;
-  ghost.drag = 3.0f;
-  ghost.contact_distance = 2.0f;
-  const Material materials[] = {Material{}, everyRule(), spring, swept, ghost};
+  const OtherMaterials m = otherMaterials();
+  const Material materials[] = {Material{}, everyRule(), m.spring, m.swept, m.ghost};
   std::mt19937 rng(21);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   std::vector<Body> bodies;
