@@ -60,8 +60,6 @@ template <class Visit> void forEachVoxel(const BrickBox& box, Visit visit) {
         visit(i, j, k, v++);
 }
 
-float clampToBand(float d, float band) { return std::min(std::max(d, -band), band); }
-
 // How far a plane through a voxel centre with normal `stored` can rise above one with normal `input`
 // anywhere in the voxel's cell: max over the cube of (stored - input) . x is the L1 norm times h/2.
 float tiltAllowance(Vec3f stored, Vec3f input, float voxel_size) {
@@ -164,19 +162,21 @@ std::int16_t planeLift(Encoder& e, const BrickBox& box, const std::uint32_t bric
   const GridGeometry& g = e.grid;
   const Vec3f n = entryPlaneNormal(entry), c = tileCentre(e, brick);
   const float d_c = entryPlaneDistance(entry);
+  const auto plane = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+    return d_c + dot(n, g.voxelCentre(i, j, k) - c);
+  };
   double sum = 0.0;
   std::size_t count = 0;
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     if (!inBand(e, v)) return;
-    sum += double(voxelLift(e.accurate[v], d_c + dot(n, g.voxelCentre(i, j, k) - c), g.band));
+    sum += double(voxelLift(e.accurate[v], plane(i, j, k), g.band));
     ++count;
   });
   const auto code = std::int16_t(std::lround(sum / double(count)));
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     if (!inBand(e, v)) return;
-    const float plane = d_c + dot(n, g.voxelCentre(i, j, k) - c);
     e.stats.max_lifted_error_voxels =
-        std::max(e.stats.max_lifted_error_voxels, liftedError(e.accurate[v], plane, code, g));
+        std::max(e.stats.max_lifted_error_voxels, liftedError(e.accurate[v], plane(i, j, k), code, g));
   });
   return code;
 }

@@ -29,26 +29,29 @@ std::string checkGeometry(const GridGeometry& g) {
   return {};
 }
 
+namespace {
+
+// "voxel (i, j, k)" for the v-th voxel of a box read x fastest.
+std::string voxelName(const VoxelBox& box, std::size_t v) {
+  const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
+  return "voxel (" + std::to_string(box.lo[0] + v % nx) + ", " + std::to_string(box.lo[1] + v / nx % ny) + ", " +
+         std::to_string(box.lo[2] + v / (nx * ny)) + ")";
+}
+
+} // namespace
+
 std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f* normal) {
   for (std::size_t v = 0; v < box.count(); ++v) {
     const Vec3f n = normal[v];
-    if (!(std::fabs(distance[v]) <= kMaxMagnitude) || !std::isfinite(n.x) || !std::isfinite(n.y) ||
-        !std::isfinite(n.z)) {
-      const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
-      return "voxel (" + std::to_string(box.lo[0] + v % nx) + ", " + std::to_string(box.lo[1] + v / nx % ny) + ", " +
-             std::to_string(box.lo[2] + v / (nx * ny)) + ") holds a non-finite distance or normal";
-    }
+    if (!(std::fabs(distance[v]) <= kMaxMagnitude) || !std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
+      return voxelName(box, v) + " holds a non-finite distance or normal";
   }
   return {};
 }
 
 std::string checkAccurate(const VoxelBox& box, const float* accurate) {
   for (std::size_t v = 0; v < box.count(); ++v) {
-    if (!(std::fabs(accurate[v]) <= kMaxMagnitude)) {
-      const std::size_t nx = box.hi[0] - box.lo[0], ny = box.hi[1] - box.lo[1];
-      return "voxel (" + std::to_string(box.lo[0] + v % nx) + ", " + std::to_string(box.lo[1] + v / nx % ny) + ", " +
-             std::to_string(box.lo[2] + v / (nx * ny)) + ") holds a non-finite accurate distance";
-    }
+    if (!(std::fabs(accurate[v]) <= kMaxMagnitude)) return voxelName(box, v) + " holds a non-finite accurate distance";
   }
   return {};
 }

@@ -5,6 +5,7 @@
 #include "dng/format/limits.h"
 #include "dng/format/writer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -20,17 +21,19 @@ std::string checkVoxels(const VoxelBox& box, const float* distance, const Vec3f*
 /// kMaxMagnitude, else which voxel is not.
 std::string checkAccurate(const VoxelBox& box, const float* accurate);
 
+/// `d` clamped to [-band, band]: what a reader makes of a far value.
+inline float clampToBand(float d, float band) { return std::min(std::max(d, -band), band); }
+
 /// The lift that takes a voxel's decoded distance to its accurate one, both clamped to the band (a
 /// reader never lifts a far voxel), as the LIFT section's code (docs/FORMAT.md §5.2).
 inline std::int16_t voxelLift(float accurate, float decoded, float band) {
-  const auto clamp = [band](float d) { return d < -band ? -band : d > band ? band : d; };
-  return liftCode(clamp(accurate) - clamp(decoded), band);
+  return liftCode(clampToBand(accurate, band) - clampToBand(decoded, band), band);
 }
 
 /// The error a lift leaves, in voxels: how far decoded + lift lands from the accurate distance.
 inline float liftedError(float accurate, float decoded, std::int16_t lift, const GridGeometry& g) {
-  const auto clamp = [&g](float d) { return d < -g.band ? -g.band : d > g.band ? g.band : d; };
-  return std::fabs(clamp(decoded) + float(lift) * liftStep(g.band) - clamp(accurate)) / g.voxel_size;
+  const float lifted = clampToBand(decoded, g.band) + float(lift) * liftStep(g.band);
+  return std::fabs(lifted - clampToBand(accurate, g.band)) / g.voxel_size;
 }
 
 /// Runs piece(i) for i in [0, count) through hooks.parallel_for (or in order), reporting progress

@@ -28,6 +28,17 @@ namespace {
 
 Sample noField() { return {std::numeric_limits<float>::infinity(), Vec3f{}, SampleStatus::kNoField}; }
 
+// Where voxel (i, j, k) of a bricked grid lives: its tile's index in the top table, and its offset
+// within a brick of 2^log2 voxels per edge (docs/FORMAT.md §2.6).
+DNG_FORCE_INLINE std::size_t tileOf(const GridInfo& g, std::uint32_t log2, std::uint32_t i, std::uint32_t j,
+                                    std::uint32_t k) {
+  return (std::size_t(k >> log2) * g.brick_dims[1] + (j >> log2)) * g.brick_dims[0] + (i >> log2);
+}
+DNG_FORCE_INLINE std::size_t offsetInBrick(std::uint32_t log2, std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+  const std::uint32_t mask = (1u << log2) - 1;
+  return (std::size_t(k & mask) << (2 * log2)) | (std::size_t(j & mask) << log2) | (i & mask);
+}
+
 } // namespace
 
 DNG_FORCE_INLINE Sample View::finish(float distance, Vec3f normal) const {
@@ -58,13 +69,10 @@ template <>
 DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j,
                                                                             std::uint32_t k) const {
   const std::uint32_t s = brick_log2_;
-  const std::uint64_t entry =
-      top_[(std::size_t(k >> s) * grid_.brick_dims[1] + (j >> s)) * grid_.brick_dims[0] + (i >> s)];
+  const std::uint64_t entry = top_[tileOf(grid_, s, i, j, k)];
   const fmt::TileKind kind = fmt::entryKind(entry);
   if (kind == fmt::TileKind::kBrick) { // the common case near a curved surface
-    const std::uint32_t mask = (1u << s) - 1;
-    const std::size_t local = (std::size_t(k & mask) << (2 * s)) | (std::size_t(j & mask) << s) | (i & mask);
-    const std::uint32_t word = pool_[(std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + local];
+    const std::uint32_t word = pool_[(std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + offsetInBrick(s, i, j, k)];
     const float lo = fmt::rangeValue(fmt::entryLo16(entry), grid_.band, range_step_);
     const float hi = fmt::rangeValue(fmt::entryHi16(entry), grid_.band, range_step_);
     return {fmt::wordDistance(word, lo, hi, fmt::brickDistanceStep(lo, hi)), fmt::wordNormal(word)};
@@ -151,13 +159,12 @@ template <> float View::liftAt<fmt::Encoding::kDense>(std::uint32_t i, std::uint
 template <> float View::liftAt<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
   if (lift_ == nullptr) return 0.0f;
   const std::uint32_t s = brick_log2_;
-  const std::size_t tile = (std::size_t(k >> s) * grid_.brick_dims[1] + (j >> s)) * grid_.brick_dims[0] + (i >> s);
+  const std::size_t tile = tileOf(grid_, s, i, j, k);
   const std::uint64_t entry = top_[tile];
   if (fmt::entryKind(entry) == fmt::TileKind::kPlane) return float(lift_[tile]) * lift_step_;
   if (fmt::entryKind(entry) != fmt::TileKind::kBrick) return 0.0f;
-  const std::uint32_t mask = (1u << s) - 1;
-  const std::size_t local = (std::size_t(k & mask) << (2 * s)) | (std::size_t(j & mask) << s) | (i & mask);
-  return float(lift_pool_[(std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + local]) * lift_step_;
+  const std::size_t word = (std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + offsetInBrick(s, i, j, k);
+  return float(lift_pool_[word]) * lift_step_;
 }
 
 namespace {
