@@ -142,7 +142,7 @@ def table1_section(path, table_mesh="fandisk"):
     print("*Crossings*: after the timed runs the same simulation is replayed untimed and every step's segment, "
           "from before to after the method's move, is tested against the original triangles with Embree; a "
           "segment that meets any triangle counts. *Memory*: the mapped `.dng`, baked with `--no-lift` (the step "
-          "never reads the LIFT section, which adds about half again for accurate queries); Embree's vertex, index and BVH "
+          "never reads the LIFT and GRAD sections, which add up to as much again for accurate queries); Embree's vertex, index and BVH "
           "allocations as its memory-monitor callback reported them; the NanoVDB grid buffer. Particles (24 bytes "
           "each) come on top for every method.\n")
     header = "| method |" + "".join(" ns/particle-step (%s) | vs no collision | vs Embree best |" % format(n, ",")

@@ -33,6 +33,7 @@ void compareWithGolden(const char* name, const std::vector<std::uint8_t>& bytes)
 TEST(Golden, DensePlane) { compareWithGolden("dense_plane.dng", testing::smallDensePlane()); }
 TEST(Golden, BrickedBox) { compareWithGolden("bricked_box.dng", testing::smallBrickedBox()); }
 TEST(Golden, BrickedBoxLifted) { compareWithGolden("bricked_box_lifted.dng", testing::smallBrickedBoxLifted()); }
+TEST(Golden, BrickedBoxGraded) { compareWithGolden("bricked_box_graded.dng", testing::smallBrickedBoxGraded()); }
 
 // Files the 1.1 writer made (kept in golden/v1_1) still open, and read exactly as the same fields
 // written by this writer: 1.2 only added the optional LIFT section, which these fields have none of.

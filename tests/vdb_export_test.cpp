@@ -58,6 +58,42 @@ TEST(VdbExport, GridsMatchTheDngAtTheSameWorldPositions) {
   EXPECT_GT(compared, 1000);
 }
 
+// A blurred bake exports its kept gradient beside the blurred normals: the exact bake's normals, voxel
+// for voxel (both come from the same distance stage).
+TEST(VdbExport, BlurredBakesAddTheGradientGrid) {
+  const testing::TempDir temp("vdb_export_gradient_test");
+  const std::string dir = temp.path().string();
+  testing::writeObj(testing::boxMesh({0, 0, 0}, {0.8f, 0.5f, 0.3f}), dir + "/box.obj");
+  const auto exported = [&](NormalMode mode, const char* grid_name) {
+    BakeOptions options;
+    options.mode = mode;
+    options.resolution = 32;
+    const std::string stem = dir + "/" + normalModeName(mode);
+    EXPECT_TRUE(bake(dir + "/box.obj", {stem + ".dng", stem + ".vdb"}, options, nullptr, nullptr, nullptr).ok());
+    openvdb::initialize();
+    openvdb::io::File file(stem + ".vdb");
+    file.open();
+    auto grid = file.hasGrid(grid_name) ? openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid(grid_name)) : nullptr;
+    file.close();
+    return grid;
+  };
+  EXPECT_EQ(exported(NormalMode::kExact, "gradient"), nullptr);
+  const auto exact = exported(NormalMode::kExact, "normal");
+  const auto gradient = exported(NormalMode::kNormalBlur, "gradient");
+  const auto blurred = exported(NormalMode::kNormalBlur, "normal");
+  ASSERT_TRUE(exact && gradient && blurred);
+  int compared = 0, tilted = 0;
+  for (auto it = exact->cbeginValueOn(); it; ++it) {
+    const openvdb::Vec3s g = gradient->tree().getValue(it.getCoord());
+    const openvdb::Vec3s b = blurred->tree().getValue(it.getCoord());
+    ASSERT_EQ(g, *it);
+    tilted += angleDegrees({b.x(), b.y(), b.z()}, {g.x(), g.y(), g.z()}) > 1.0 ? 1 : 0;
+    ++compared;
+  }
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(tilted, 100) << "the blur tilts normals at the box's edges";
+}
+
 } // namespace
 } // namespace baker
 } // namespace dng

@@ -72,6 +72,7 @@ Json reportJson(const std::string& path, const View& view) {
   j["guaranteed_reach"] = view.guaranteedReach();
   j["conservative_planes"] = view.conservativePlanes();
   j["lift"] = view.hasLift();
+  j["gradient"] = view.hasGradient();
   const TileCounts& t = view.tileCounts();
   j["tiles"] = {{"far_outside", t.far_outside}, {"far_inside", t.far_inside}, {"plane", t.plane}, {"brick", t.brick}};
   j["voxels_in_band"] = band;
@@ -108,6 +109,9 @@ void printSummary(std::FILE* out, const std::string& path, const View& view) {
   std::fprintf(out, "  lift       %s\n",
                view.hasLift() ? "yes (accurate queries read the distances from before any lowering)"
                               : "none (accurate queries read the stored distances)");
+  std::fprintf(out, "  gradient   %s\n",
+               view.hasGradient() ? "yes (accurate queries use the distance's own gradient, not the blurred normals)"
+                                  : "none (accurate queries use the stored normals)");
   if (g.encoding == format::Encoding::kBricked) {
     const TileCounts& t = view.tileCounts();
     std::fprintf(out, "  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",

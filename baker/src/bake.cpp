@@ -174,6 +174,8 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   if (!status.ok()) return status;
   report->band_blocks = band.blockCount();
   timer.done("distance");
+  // The blurred modes replace the normals; the accurate query wants the distance's own gradient.
+  if (options.lift && options.mode != NormalMode::kExact) band.keepGradient();
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return BakeStatus::cancelled();
@@ -229,6 +231,8 @@ BakeStatus bake(const BakeInputs& inputs, const BakeOutputs& outputs, const Bake
                 void* user, BakeReport* report) {
   // Every option first: a bad value must cost nothing and be reported as the usage error it is.
   if (BakeStatus checked = checkBakeOptions(options); !checked.ok()) return checked;
+  BakeReport unused; // the stages fill a report as they go, wanted or not
+  if (report == nullptr) report = &unused;
   try {
     const BakeStatus status = bakeStages(inputs, outputs, options, progress, user, report);
     report->peak_memory_bytes = peakMemoryBytes();

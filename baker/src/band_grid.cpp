@@ -136,6 +136,19 @@ void BandGrid::readAccurate(const format::VoxelBox& box, float* distance) const 
   readTree(impl_->accurate->tree(), box, [&](std::size_t out, float d) { distance[out] = d; });
 }
 
+void BandGrid::keepGradient() {
+  impl_->gradient = impl_->normal->deepCopy();
+  impl_->gradient->setName("gradient"); // its name in --export-vdb files
+}
+
+bool BandGrid::hasGradient() const { return impl_->gradient != nullptr; }
+
+void BandGrid::readGradient(const format::VoxelBox& box, Vec3f* gradient) const {
+  readTree(impl_->gradient->tree(), box, [&](std::size_t out, const openvdb::Vec3s& n) {
+    gradient[out] = {n.x(), n.y(), n.z()};
+  });
+}
+
 format::FarHint BandGrid::farHint(const format::VoxelBox& box) const {
   const openvdb::FloatTree& tree = impl_->distance->tree();
   bool inside = false, outside = false;

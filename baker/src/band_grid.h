@@ -76,6 +76,12 @@ public:
   void keepAccurateDistances();
   bool hasAccurate() const override;
   void readAccurate(const format::VoxelBox& box, float* distance) const override;
+  /// Keeps a copy of the normals as they are now, the distance's own gradient, before a stage replaces
+  /// them with blurred ones (normal-blur and potential modes), so the encoders can write them beside
+  /// (the file's GRAD section). Costs three more floats per band voxel. Call after finishBand, once.
+  void keepGradient();
+  bool hasGradient() const override;
+  void readGradient(const format::VoxelBox& box, Vec3f* gradient) const override;
   /// Far when no block overlaps the box and every tile it covers lies on one side.
   format::FarHint farHint(const format::VoxelBox& box) const override;
 

@@ -2,7 +2,8 @@
 // already is a level set (background = band) and a normal grid in the right placement, so exporting is
 // writing them. "distance" is the distance itself: the copy kept from before the conservative lowering
 // when there is one (the LIFT section's source), and then the lowered values go beside it as
-// "conservative_distance", what the runtime's nearest query reads.
+// "conservative_distance", what the runtime's nearest query reads. The blurred modes add "gradient",
+// the distance's own normals kept beside the blurred ones (the GRAD section's source).
 #include "band_grid_vdb.h"
 #include "stages.h"
 
@@ -19,13 +20,16 @@ BakeStatus exportVdb(const BandGrid& band, const std::string& path) {
   try {
     openvdb::io::File file(temp);
     const BandGrid::Impl& grids = band.impl();
+    openvdb::GridPtrVec written;
     if (grids.accurate == nullptr) {
-      file.write({grids.distance, grids.normal});
+      written = {grids.distance, grids.normal};
     } else {
       openvdb::FloatGrid::Ptr lowered = grids.distance->copy(); // shares the tree, own name
       lowered->setName("conservative_distance");
-      file.write({grids.accurate, lowered, grids.normal});
+      written = {grids.accurate, lowered, grids.normal};
     }
+    if (grids.gradient != nullptr) written.push_back(grids.gradient);
+    file.write(written);
     file.close();
   } catch (const std::exception& e) {
     std::remove(temp.c_str());

@@ -43,6 +43,11 @@ struct Encoder {
   std::vector<float> accurate;
   std::vector<std::int16_t> lift_top;
   std::vector<std::int16_t> lift_pool;
+  // GRAD (docs/FORMAT.md §5.3), when the source knows its distance's gradient: the brick's, and one
+  // word per pool word.
+  bool graded = false;
+  std::vector<Vec3f> gradient;
+  std::vector<std::uint16_t> gradient_pool;
 };
 
 // A brick's voxel range, clipped to the grid.
@@ -229,6 +234,7 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   const std::uint32_t pool_index = std::uint32_t(base >> (3 * e.log2));
   e.pool.resize(base + (std::size_t(1) << (3 * e.log2)), 0u);
   if (e.lifted) e.lift_pool.resize(e.pool.size(), 0);
+  if (e.graded) e.gradient_pool.resize(e.pool.size(), 0);
   const std::uint32_t mask = e.size - 1;
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     const std::uint32_t qd = distanceCode(targets[v], inBand(e, v), lo_value, hi_value, step);
@@ -238,6 +244,7 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
     const float decoded = wordDistance(word, lo_value, hi_value, step);
     if (inBand(e, v)) measure(e, v, decoded, wordNormal(word));
     if (e.lifted) e.lift_pool[base + local] = lift(e, v, decoded);
+    if (e.graded) e.gradient_pool[base + local] = gradientWord(e.gradient[v]);
   });
   return packBrickEntry(pool_index, lo16, hi16);
 }
@@ -261,6 +268,7 @@ bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
     if (!(*error = checkVoxels(read, e.distance.data(), e.normal.data())).empty()) return false;
     if (e.lifted) e.source.readAccurate(read, e.accurate.data());
     if (e.lifted && !(*error = checkAccurate(read, e.accurate.data())).empty()) return false;
+    if (e.graded) e.source.readGradient(read, e.gradient.data());
     for (std::size_t v = 0; v < read.count(); ++v)
       e.stats.band_voxels += inBand(e, v) ? 1 : 0;
     if (!tryFarTile(e, box, &entry)) {
@@ -308,8 +316,12 @@ Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std:
             source.hasAccurate(),
             {},
             {},
+            {},
+            source.hasGradient(),
+            {},
             {}};
   if (e.lifted) e.accurate.resize(brick_voxels);
+  if (e.graded) e.gradient.resize(brick_voxels);
   return e;
 }
 
@@ -318,6 +330,7 @@ struct Layer {
   std::vector<std::uint64_t> top;
   std::vector<std::uint32_t> pool;
   std::vector<std::int16_t> lift_top, lift_pool; // empty without accurate distances
+  std::vector<std::uint16_t> gradient_pool;      // empty without gradients
   EncodeStats stats;
   std::string error;
 };
@@ -339,6 +352,7 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   std::vector<std::uint64_t> top;
   std::vector<std::uint32_t> pool;
   std::vector<std::int16_t> lift_top, lift_pool;
+  std::vector<std::uint16_t> gradient_pool;
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);
     if (result.stats.tiles.brick >= kMaxPoolBricks) {
@@ -353,6 +367,7 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
     pool.insert(pool.end(), layer.pool.begin(), layer.pool.end());
     lift_top.insert(lift_top.end(), layer.lift_top.begin(), layer.lift_top.end());
     lift_pool.insert(lift_pool.end(), layer.lift_pool.begin(), layer.lift_pool.end());
+    gradient_pool.insert(gradient_pool.end(), layer.gradient_pool.begin(), layer.gradient_pool.end());
     layer = Layer{}; // give the memory back as we go
   }
   ContainerBuilder builder;
@@ -362,8 +377,10 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   // LIFT: the tiles' lifts, then the pool's, one array.
   lift_top.insert(lift_top.end(), lift_pool.begin(), lift_pool.end());
   if (!lift_top.empty()) builder.addSection(kTagLift, 0, lift_top.data(), lift_top.size() * sizeof(std::int16_t));
-  result.stats.payload_bytes =
-      top.size() * sizeof(std::uint64_t) + pool.size() * sizeof(std::uint32_t) + lift_top.size() * sizeof(std::int16_t);
+  if (!gradient_pool.empty())
+    builder.addSection(kTagGradient, 0, gradient_pool.data(), gradient_pool.size() * sizeof(std::uint16_t));
+  result.stats.payload_bytes = top.size() * sizeof(std::uint64_t) + pool.size() * sizeof(std::uint32_t) +
+                               lift_top.size() * sizeof(std::int16_t) + gradient_pool.size() * sizeof(std::uint16_t);
   result.bytes = builder.finish();
   return result;
 }
@@ -398,6 +415,7 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
     layers[z].pool = std::move(e.pool);
     layers[z].lift_top = std::move(e.lift_top);
     layers[z].lift_pool = std::move(e.lift_pool);
+    layers[z].gradient_pool = std::move(e.gradient_pool);
     layers[z].stats = e.stats;
   });
   if (!finished) result.fail(EncodeError::kCancelled, "cancelled");

@@ -63,6 +63,8 @@ std::string checkField(const DenseField& field) {
     return "distance and normal arrays must hold one entry per voxel";
   if (!field.accurate.empty() && field.accurate.size() != field.grid.voxelCount())
     return "the accurate array must be empty or hold one entry per voxel";
+  if (!field.gradient.empty() && field.gradient.size() != field.grid.voxelCount())
+    return "the gradient array must be empty or hold one entry per voxel";
   VoxelBox all;
   for (int a = 0; a < 3; ++a)
     all.hi[a] = field.grid.dims[a];
@@ -115,11 +117,13 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
   result.fail(EncodeError::kInvalidGeometry, checkGeometry(g));
   if (!result.ok()) return result;
 
-  // One piece per z slice, each writing its own part of `voxels` (and of `lifts`).
+  // One piece per z slice, each writing its own part of `voxels` (and of `lifts` and `gradients`).
   const std::size_t per_slice = std::size_t(g.dims[0]) * g.dims[1];
   const bool lifted = source.hasAccurate();
+  const bool graded = source.hasGradient();
   std::vector<DenseVoxel> voxels(g.voxelCount());
   std::vector<std::int16_t> lifts(lifted ? g.voxelCount() : 0);
+  std::vector<std::uint16_t> gradients(graded ? g.voxelCount() : 0);
   std::vector<std::uint64_t> band_voxels(g.dims[2], 0);
   std::vector<float> lift_errors(g.dims[2], 0.0f);
   std::vector<std::string> errors(g.dims[2]);
@@ -135,6 +139,12 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
     if (!(errors[k] = checkVoxels(slice, distance.data(), normal.data())).empty()) return;
     if (lifted) source.readAccurate(slice, accurate.data());
     if (lifted && !(errors[k] = checkAccurate(slice, accurate.data())).empty()) return;
+    if (graded) {
+      std::vector<Vec3f> gradient(per_slice);
+      source.readGradient(slice, gradient.data());
+      for (std::size_t v = 0; v < per_slice; ++v)
+        gradients[k * per_slice + v] = gradientWord(gradient[v]);
+    }
     for (std::size_t v = 0; v < per_slice; ++v) {
       const Vec3f n = normalizeOrZero(normal[v]); // readers rely on unit-or-zero normals
       voxels[k * per_slice + v] = {distance[v], {n.x, n.y, n.z}};
@@ -158,7 +168,9 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
   addCommonSections(builder, makeGridSection(g, Encoding::kDense), metadata_json);
   builder.addSection(kTagDense, kSectionRequired, voxels.data(), voxels.size() * sizeof(DenseVoxel));
   if (lifted) builder.addSection(kTagLift, 0, lifts.data(), lifts.size() * sizeof(std::int16_t));
-  result.stats.payload_bytes = voxels.size() * sizeof(DenseVoxel) + lifts.size() * sizeof(std::int16_t);
+  if (graded) builder.addSection(kTagGradient, 0, gradients.data(), gradients.size() * sizeof(std::uint16_t));
+  result.stats.payload_bytes = voxels.size() * sizeof(DenseVoxel) + lifts.size() * sizeof(std::int16_t) +
+                               gradients.size() * sizeof(std::uint16_t);
   result.bytes = builder.finish();
   return result;
 }

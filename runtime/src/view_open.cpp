@@ -43,6 +43,7 @@ public:
     if (s == Status::kOk) s = checkGrid();
     if (s == Status::kOk) s = grid_.encoding == fmt::Encoding::kDense ? checkDense() : checkBricked();
     if (s == Status::kOk) s = checkLift();
+    if (s == Status::kOk) s = checkGradient();
     if (s != Status::kOk) return s;
     view_.data_ = data_;
     view_.size_ = size_;
@@ -150,6 +151,7 @@ private:
     case fmt::kTagBrickTop: return &top_section_;
     case fmt::kTagBrickPool: return &pool_section_;
     case fmt::kTagLift: return &lift_section_;
+    case fmt::kTagGradient: return &gradient_section_;
     default: return nullptr;
     }
   }
@@ -159,13 +161,14 @@ private:
   Status checkBricked();
   Status checkTopEntries(std::uint64_t pool_bricks);
   Status checkLift();
+  Status checkGradient();
 
   const std::uint8_t* data_;
   std::size_t size_;
   Diagnostic* diag_;
   fmt::FileHeader header_{};
   std::uint64_t table_end_ = 0;
-  Found grid_section_, meta_section_, dense_section_, top_section_, pool_section_, lift_section_;
+  Found grid_section_, meta_section_, dense_section_, top_section_, pool_section_, lift_section_, gradient_section_;
   GridInfo grid_;
   View view_;
 };
@@ -313,6 +316,20 @@ Status ViewBuilder::checkLift() {
   view_.lift_ = reinterpret_cast<const std::int16_t*>(at(lift_section_.copy.offset));
   if (grid_.encoding == fmt::Encoding::kBricked) view_.lift_pool_ = view_.lift_ + top_section_.copy.size / 8;
   view_.lift_step_ = fmt::liftStep(grid_.band);
+  return Status::kOk;
+}
+
+// V20 (1.2): the optional GRAD section holds one u16 per voxel (dense) or per pool word (bricked);
+// every u16 is a valid octahedral normal.
+Status ViewBuilder::checkGradient() {
+  if (!gradient_section_.present) return Status::kOk;
+  const std::uint64_t entries = grid_.encoding == fmt::Encoding::kDense
+                                    ? dense_section_.copy.size / sizeof(fmt::DenseVoxel)
+                                    : pool_section_.copy.size / 4;
+  if (gradient_section_.copy.size != entries * 2)
+    return fail(Status::kBadPayloadSize, "V20", "GRAD has %llu bytes, the grid needs %llu normals of 2 bytes",
+                (unsigned long long)gradient_section_.copy.size, (unsigned long long)entries);
+  view_.gradient_ = reinterpret_cast<const std::uint16_t*>(at(gradient_section_.copy.offset));
   return Status::kOk;
 }
 

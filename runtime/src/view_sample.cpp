@@ -167,6 +167,24 @@ template <> float View::liftAt<fmt::Encoding::kBricked>(std::uint32_t i, std::ui
   return float(lift_pool_[word]) * lift_step_;
 }
 
+// The GRAD section's normal for voxel (i, j, k), or `stored` without the section and outside bricks
+// (a plane tile's normal is its distance's gradient already).
+template <>
+Vec3f View::gradientAt<fmt::Encoding::kDense>(std::uint32_t i, std::uint32_t j, std::uint32_t k, Vec3f stored) const {
+  if (gradient_ == nullptr) return stored;
+  return fmt::gradientNormal(gradient_[(std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i]);
+}
+
+template <>
+Vec3f View::gradientAt<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j, std::uint32_t k, Vec3f stored) const {
+  if (gradient_ == nullptr) return stored;
+  const std::uint32_t s = brick_log2_;
+  const std::uint64_t entry = top_[tileOf(grid_, s, i, j, k)];
+  if (fmt::entryKind(entry) != fmt::TileKind::kBrick) return stored;
+  return fmt::gradientNormal(
+      gradient_[(std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + offsetInBrick(s, i, j, k)]);
+}
+
 namespace {
 
 // One corner of the accurate query's stencil: its (lifted) distance and normal, and p - centre in
@@ -220,7 +238,7 @@ template <fmt::Encoding kEncoding> Sample View::accurate(Vec3f p) const {
     const VoxelValue v = voxelValue<kEncoding>(i, j, k);
     const bool in_band = std::fabs(v.distance) < grid_.band;
     corners[corner] = {in_band ? v.distance + liftAt<kEncoding>(i, j, k) : v.distance,
-                       v.normal,
+                       in_band ? gradientAt<kEncoding>(i, j, k, v.normal) : v.normal,
                        {u[0] - float(i) - 0.5f, u[1] - float(j) - 0.5f, u[2] - float(k) - 0.5f},
                        in_band};
   }

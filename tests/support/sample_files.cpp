@@ -48,6 +48,30 @@ std::vector<std::uint8_t> smallBrickedBoxLifted() {
   return result.bytes;
 }
 
+void blurNormalsKeepingTheGradient(format::DenseField* field) {
+  const format::GridGeometry& g = field->grid;
+  field->gradient = field->normal;
+  for (std::uint32_t k = 0; k < g.dims[2]; ++k)
+    for (std::uint32_t j = 0; j < g.dims[1]; ++j)
+      for (std::uint32_t i = 0; i < g.dims[0]; ++i) {
+        Vec3f& n = field->normal[g.index(i, j, k)];
+        if (dot(n, n) == 0.0f) continue;
+        const Vec3f c = g.voxelCentre(i, j, k) * (1.0f / g.voxel_size);
+        const Vec3f tilt{std::sin(0.7f * c.y + 0.3f), std::sin(0.5f * c.z - 0.8f), std::sin(0.6f * c.x + 1.1f)};
+        n = normalizeOrZero(n + tilt * 0.3f);
+      }
+}
+
+std::vector<std::uint8_t> smallBrickedBoxGraded() {
+  format::DenseField field = loweredBoxField();
+  blurNormalsKeepingTheGradient(&field);
+  format::BrickOptions options;
+  options.brick_size = 4;
+  const auto result = format::encodeBricked(field, options, R"({"test":"small bricked box, lifted and graded"})");
+  if (!result.ok()) throw std::runtime_error(result.error);
+  return result.bytes;
+}
+
 std::vector<std::uint8_t> smallDensePlane() {
   format::GridGeometry grid;
   grid.origin = {0.0f, 0.0f, 0.0f};

@@ -26,6 +26,11 @@ std::vector<std::uint8_t> smallDensePlane();
 format::DenseField loweredBoxField();
 /// loweredBoxField() encoded as smallBrickedBox is, with metadata.
 std::vector<std::uint8_t> smallBrickedBoxLifted();
+/// Tilts every normal of `field` by up to about 25 degrees, varying smoothly in space, as a blur tilts
+/// them, and keeps the untilted ones as the field's gradient: encoded, it has a GRAD section.
+void blurNormalsKeepingTheGradient(format::DenseField* field);
+/// loweredBoxField() with blurNormalsKeepingTheGradient, encoded as smallBrickedBox is, with metadata.
+std::vector<std::uint8_t> smallBrickedBoxGraded();
 
 /// Byte offset of the table entry of the first section with `tag`, or 0 when absent.
 std::size_t entryOffset(const std::vector<std::uint8_t>& bytes, std::uint32_t tag);

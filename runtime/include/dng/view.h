@@ -32,7 +32,8 @@ enum class Interpolation : std::uint32_t {
   kTrilinear = 1, ///< trilinear blend of the eight surrounding voxel centres, normal renormalized
   /// The closest to the true distance and normal (docs/RUNTIME.md, "Accurate queries"): the eight
   /// surrounding voxels' distances, lifted back from the conservative lowering when the file has a LIFT
-  /// section, each corrected by half its plane's slope towards p, blended trilinearly; the normal is the
+  /// section, each corrected by half its plane's slope towards p (the distance's own gradient from a
+  /// GRAD section when the stored normals are blurred), blended trilinearly; the normal is the
   /// normalized gradient of that blend. Second-order accurate where the surface is smooth. Not a bound:
   /// the step never uses it. About 3x the cost of kTrilinear.
   kAccurate = 2,
@@ -95,6 +96,9 @@ public:
   /// True when the file carries a LIFT section (format 1.2): kAccurate queries then read the distances
   /// from before the conservative lowering; without it they read the stored values.
   bool hasLift() const { return lift_ != nullptr; }
+  /// True when the file carries a GRAD section (format 1.2): the distance's own gradient beside blurred
+  /// normals, which kAccurate queries use in place of the stored normals.
+  bool hasGradient() const { return gradient_ != nullptr; }
   const TileCounts& tileCounts() const { return tiles_; }
   std::uint16_t versionMajor() const { return version_major_; }
   std::uint16_t versionMinor() const { return version_minor_; }
@@ -115,6 +119,8 @@ private:
   template <format::Encoding kEncoding> Sample trilinear(Vec3f p) const;
   template <format::Encoding kEncoding> Sample accurate(Vec3f p) const;
   template <format::Encoding kEncoding> float liftAt(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
+  template <format::Encoding kEncoding>
+  Vec3f gradientAt(std::uint32_t i, std::uint32_t j, std::uint32_t k, Vec3f stored) const;
   template <format::Encoding kEncoding> VoxelValue voxelValue(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
   bool toVoxelUnits(Vec3f p, float out_u[3]) const;
   Sample finish(float distance, Vec3f normal) const;
@@ -137,6 +143,7 @@ private:
   const std::int16_t* lift_ = nullptr;      // LIFT: per voxel (dense) or per tile (bricked)
   const std::int16_t* lift_pool_ = nullptr; // bricked: per pool word, after the tiles' lifts
   float lift_step_ = 0.0f;                  // format::liftStep(band)
+  const std::uint16_t* gradient_ = nullptr; // GRAD: per voxel (dense) or per pool word (bricked)
 };
 
 } // namespace dng

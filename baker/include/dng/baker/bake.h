@@ -78,7 +78,9 @@ struct BakeOptions {
   format::BrickOptions brick;
   std::uint32_t threads = 0; ///< 0 = all cores; the output never depends on it
   /// Write the LIFT section: what takes the lowered (conservative) distances back to the accurate ones
-  /// for Interpolation::kAccurate queries. About a third of a bricked file; the step never reads it.
+  /// for Interpolation::kAccurate queries, and in the blurred modes the GRAD section, the distance's own
+  /// gradient beside the blurred normals. Together about half of a bricked normal-blur file (a third
+  /// in exact mode); the step never reads either.
   bool lift = true;
 };
 
@@ -129,7 +131,7 @@ struct BakeOutputs {
 /// The whole bake: check the options, load, check the mesh, place, distance, normals, encode, write
 /// outputs.dng (and outputs.vdb when set) atomically. Nothing is written unless every stage before
 /// the writes succeeded; a cancel (progress returning false) during the writes is not honoured, so
-/// kCancelled always means nothing was written. Never throws.
+/// kCancelled always means nothing was written. Never throws. `out_report` may be null.
 BakeStatus bake(const std::string& input_path, const BakeOutputs& outputs, const BakeOptions& options,
                 ProgressFn progress, void* progress_user, BakeReport* out_report);
 /// The same over several inputs, scene selection and units.

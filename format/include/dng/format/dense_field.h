@@ -40,6 +40,10 @@ struct DenseField {
   /// Optional: empty, or one entry per voxel holding the distance before the producer lowered it
   /// into `distance` (conservative planes). When present the writers add a LIFT section.
   std::vector<float> accurate;
+  /// Optional: empty, or one entry per voxel holding the distance's gradient (unit, or zero where
+  /// unknown) when `normal` holds something else, such as blurred normals. When present the writers
+  /// add a GRAD section.
+  std::vector<Vec3f> gradient;
 
   /// Sizes both arrays for `geometry`, far outside (+band) with zero normals.
   void reset(const GridGeometry& geometry) {
@@ -47,6 +51,7 @@ struct DenseField {
     distance.assign(grid.voxelCount(), grid.band);
     normal.assign(grid.voxelCount(), Vec3f{});
     accurate.clear();
+    gradient.clear();
   }
 };
 

@@ -42,6 +42,14 @@ public:
     (void)box;
     (void)distance;
   }
+  /// True when readGradient() has values: the encoders then write a GRAD section (docs/FORMAT.md §5.3).
+  virtual bool hasGradient() const { return false; }
+  /// Writes box.count() unit normals of the distance itself (zero where unknown), for sources whose
+  /// read() normals are not its gradient (blurred). Called only when hasGradient(); threading as read().
+  virtual void readGradient(const VoxelBox& box, Vec3f* gradient) const {
+    (void)box;
+    (void)gradient;
+  }
   /// A shortcut for empty space: kUnknown unless the source knows the whole box is far on one side.
   /// A source may always answer kUnknown; a wrong answer other than kUnknown is a bug.
   virtual FarHint farHint(const VoxelBox& box) const {
@@ -70,6 +78,13 @@ public:
       for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
         for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
           *distance++ = field_.accurate[field_.grid.index(i, j, k)];
+  }
+  bool hasGradient() const override { return !field_.gradient.empty(); }
+  void readGradient(const VoxelBox& box, Vec3f* gradient) const override {
+    for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
+      for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
+        for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
+          *gradient++ = field_.gradient[field_.grid.index(i, j, k)];
   }
 
 private:

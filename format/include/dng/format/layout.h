@@ -22,7 +22,7 @@ inline constexpr unsigned char kMagic[8] = {0x89, 'D', 'N', 'G', '\r', '\n', 0x1
 /// A major bump breaks compatibility; a minor bump only adds (new optional sections, new fields in
 /// reserved bytes that older readers may ignore).
 inline constexpr std::uint16_t kVersionMajor = 1;
-inline constexpr std::uint16_t kVersionMinor = 2; ///< 1.1: GridSection::flags; 1.2: the LIFT section
+inline constexpr std::uint16_t kVersionMinor = 2; ///< 1.1: GridSection::flags; 1.2: LIFT and GRAD
 
 inline constexpr std::uint32_t kHeaderSize = 128;
 inline constexpr std::uint32_t kSectionAlignment = 64;
@@ -46,6 +46,10 @@ inline constexpr std::uint32_t kTagBrickPool = makeTag('B', 'P', 'O', 'L'); ///<
 /// lowered (docs/FORMAT.md §5.2). Bricked: one per BTOP entry, then one per BPOL word, in their orders.
 /// Dense: one per voxel, x fastest. A lift's value is code * liftStep(band) (codec.h).
 inline constexpr std::uint32_t kTagLift = makeTag('L', 'I', 'F', 'T');
+/// Optional, since 1.2: the distance's own gradient where the stored normals are something else (the
+/// blurred modes), for the accurate query (docs/FORMAT.md §5.3). One u16 octahedral normal
+/// (gradientWord, codec.h) per BPOL word (bricked) or per voxel (dense), in their orders.
+inline constexpr std::uint32_t kTagGradient = makeTag('G', 'R', 'A', 'D');
 
 /// File header: 128 bytes at offset 0.
 struct FileHeader {
