@@ -38,6 +38,18 @@ Bytes encode(const format::DenseField& field, bool bricked, format::EncodeStats*
   return result.bytes;
 }
 
+// What the step and the other queries read at p: the same bits in both views.
+void expectSameNearestAndTrilinear(const View& a, const View& b, Vec3f p) {
+  for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+    const Sample sa = a.sample(p, mode), sb = b.sample(p, mode);
+    ASSERT_EQ(sa.distance, sb.distance);
+    ASSERT_EQ(sa.normal.x, sb.normal.x);
+    ASSERT_EQ(sa.normal.y, sb.normal.y);
+    ASSERT_EQ(sa.normal.z, sb.normal.z);
+    ASSERT_EQ(sa.status, sb.status);
+  }
+}
+
 // At a voxel centre the accurate query reads that voxel alone: its lifted distance.
 TEST(Lift, GivesBackTheDistancesFromBeforeTheLowering) {
   const format::DenseField field = testing::loweredBoxField();
@@ -76,12 +88,7 @@ TEST(Lift, ChangesNothingButTheAccurateQuery) {
   EXPECT_FALSE(plain.view.hasLift());
   std::size_t raised = 0;
   for (const Vec3f& p : analytic::randomPoints({-12, -12, -12}, {12, 12, 12}, 4000, 5)) {
-    for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
-      const Sample a = lifted.view.sample(p, mode), b = plain.view.sample(p, mode);
-      ASSERT_EQ(a.distance, b.distance);
-      ASSERT_EQ(a.normal.x, b.normal.x);
-      ASSERT_EQ(a.status, b.status);
-    }
+    ASSERT_NO_FATAL_FAILURE(expectSameNearestAndTrilinear(lifted.view, plain.view, p));
     const Sample a = lifted.view.sample(p, Interpolation::kAccurate),
                  b = plain.view.sample(p, Interpolation::kAccurate);
     if (b.status == SampleStatus::kInBand && a.distance > b.distance + 0.04f) ++raised;
@@ -139,12 +146,7 @@ TEST(Gradient, TakesThePlaceOfBlurredNormalsInTheAccurateQuery) {
     float worst_graded = 0.0f, worst_blurred = 0.0f, worst_exact = 0.0f;
     std::size_t count = 0;
     for (const Vec3f& p : analytic::randomPoints({-8, -8, -8}, {8, 8, 8}, 20000, 13)) {
-      for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
-        const Sample a = with_gradient.view.sample(p, mode), b = without.view.sample(p, mode);
-        ASSERT_EQ(a.distance, b.distance);
-        ASSERT_EQ(a.normal.x, b.normal.x);
-        ASSERT_EQ(a.status, b.status);
-      }
+      ASSERT_NO_FATAL_FAILURE(expectSameNearestAndTrilinear(with_gradient.view, without.view, p));
       const float truth = sphere(p).distance;
       if (std::fabs(truth) > with_gradient.view.guaranteedReach()) continue;
       const auto error = [&](const Opened& file) {

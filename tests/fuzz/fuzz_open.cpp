@@ -24,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const dng::Vec3f p =
         g.origin +
         dng::Vec3f{t[0] * float(g.dims[0]), t[1] * float(g.dims[1]), t[2] * float(g.dims[2])} * (g.voxel_size * 1.1f);
-    for (dng::Interpolation mode : {dng::Interpolation::kNearest, dng::Interpolation::kTrilinear}) {
+    for (dng::Interpolation mode :
+         {dng::Interpolation::kNearest, dng::Interpolation::kTrilinear, dng::Interpolation::kAccurate}) {
       const dng::Sample s = view.sample(p, mode);
       if (s.status != dng::SampleStatus::kNoField && !std::isfinite(s.distance)) std::abort();
       if (!std::isfinite(s.normal.x) || !std::isfinite(s.normal.y) || !std::isfinite(s.normal.z)) std::abort();
