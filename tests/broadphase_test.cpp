@@ -191,6 +191,37 @@ TEST_P(SameResults, WithAndWithoutTheIndexBitForBit) {
 // 1 body: the ground alone; 70: more bodies than the step keeps motions for and samples of (64, 8).
 INSTANTIATE_TEST_SUITE_P(BodyCounts, SameResults, ::testing::Values(1, 9, 70, 300));
 
+// The index keeps each body's numbers for the step from its rebuild (pose, motion, box, walk
+// constants), but never its material: materials may change between rebuild and step, and the step
+// must use them as they are then. Every kind of rule, on bodies listed in the same cells.
+TEST(BodyIndex, MaterialsChangedAfterTheRebuildAreUsed) {
+  std::vector<Mover> movers = randomScene(70, 23);
+  std::vector<Body> bodies = bodiesOf(movers);
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    Material m;
+    m.response = b % 4 == 0 ? Response::kNone : b % 4 == 1 ? Response::kSpring : Response::kImpact;
+    m.restitution = 0.1f * float(b % 7);
+    m.collision_distance = 0.05f;
+    m.drag = b % 2 == 0 ? 3.0f : 0.0f, m.contact_distance = 0.3f;
+    m.flow_in = b % 3 == 0 ? 2.0f : 0.0f, m.flow_distance = 0.3f;
+    m.swept = b % 5 == 0;
+    ASSERT_EQ(bodies[b].setMaterial(m), Status::kOk);
+  }
+  Particles plain = randomParticles(movers, 4000, 29);
+  Particles indexed = plain;
+  ASSERT_EQ(stepParticles(plain.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
+  Diagnostic diag;
+  ASSERT_EQ(stepParticles(indexed.span(), kDt, bodies.data(), bodies.size(), index, &diag), Status::kOk)
+      << diag.message;
+  expectSame(plain, indexed, 0);
+  long contacts = 0;
+  for (std::uint8_t c : plain.contact)
+    contacts += c;
+  EXPECT_GT(contacts, 100);
+}
+
 // A body with a NaN velocity has no finite box: the linear loop walks every move through it, so the
 // index must list it everywhere.
 TEST(BodyIndex, BodiesWithoutFiniteBoxesAreListedEverywhere) {

@@ -119,6 +119,7 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   count = body_count;
   dt = step_dt;
   motions.resize(count);
+  prepared.resize(count);
   boxes.resize(count);
   fields.resize(count);
   states.resize(count * kStateFloats);
@@ -131,6 +132,7 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   scene_hi = {-inf, -inf, -inf};
   for (std::size_t b = 0; b < count; ++b) {
     motions[b] = motionOf(bodies[b], dt);
+    prepared[b] = prepareStep(bodies[b], motions[b]);
     fields[b] = bodies[b].field();
     std::uint32_t* state = &states[b * kStateFloats];
     forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { state[k] = bits; });

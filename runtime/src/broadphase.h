@@ -27,6 +27,25 @@ struct BodyMotion {
 };
 BodyMotion motionOf(const Body& body, float dt);
 
+/// One body as the SIMD kernels see it in a step: what follows from its field, pose and motion, computed
+/// with the expressions the scalar path uses, so both paths compare the same numbers. Nothing of the
+/// material, which may change without a rebuild (dng/body_index.h): the kernels read that from the
+/// body. The index keeps one per body, so a chunk of lanes meeting a body reads one compact record
+/// instead of preparing it from the Body, its motion and its field.
+struct StepBody {
+  const View* field = nullptr;
+  bool dense = false;    ///< the field's encoding
+  Pose start, end;       ///< the body's pose at the start and at the end of the step
+  Vec3f lo, hi;          ///< Body::boundsMin, boundsMax
+  Vec3f linear, angular; ///< Body::linearVelocity, angularVelocity
+  float travel = 0.0f;   ///< how far any point of its box moves in dt
+  float band_world = 0.0f;
+  // The walk's constants, local units (walk.h).
+  float margin = 0.0f, reach = 0.0f, roomy = 0.0f, proof_level = 0.0f;
+};
+/// Out of line (step.cpp, beside the walk's margin), for the index and the step alike.
+StepBody prepareStep(const Body& body, const BodyMotion& motion);
+
 /// The sorted body lists a query box reads, or `all` when it must test every body.
 struct CandidateLists {
   /// One cell per axis and a neighbour (2 x 2 x 2) plus the bodies listed everywhere. A box over more
@@ -53,6 +72,7 @@ struct BodyIndex::Impl {
   std::size_t count = 0;
   float dt = 0.0f;
   std::vector<BodyMotion> motions; // per body
+  std::vector<StepBody> prepared;  // per body, from its motion
   // Per body: its world box (Body::boundsMin/Max), and that box grown by the motion's travel as the step
   // grows it.
   std::vector<BodyBoxes> boxes;

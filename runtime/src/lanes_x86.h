@@ -96,11 +96,16 @@ DNG_LANE_INLINE bool any(M a) { return bits(a) != 0; }
 DNG_LANE_INLINE bool all(M a) { return bits(a) == (1u << kWidth) - 1; }
 /// m ? a : b per lane.
 DNG_LANE_INLINE F select(M m, F a, F b) { return {DNG_PS(blendv)(b.v, a.v, m.v)}; }
+/// Lane n true when bit n is set. Each lane tests its own bit in one compare: the kernels build a mask
+/// per slot of bodies, and a loop over the lanes cost more than the slot's box tests.
 DNG_LANE_INLINE M laneMask(unsigned lane_bits) {
-  alignas(32) std::int32_t b[kWidth];
-  for (int n = 0; n < kWidth; ++n)
-    b[n] = (lane_bits >> n) & 1u ? -1 : 0;
-  return {DNG_CAST_PS(DNG_SI(load)(reinterpret_cast<const RawI*>(b)))};
+#if defined(DNG_LANES_AVX2)
+  const RawI lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+#else
+  const RawI lane_bit = _mm_setr_epi32(1, 2, 4, 8);
+#endif
+  const RawI set = DNG_SI(and)(DNG_EPI32(set1)(std::int32_t(lane_bits)), lane_bit);
+  return {DNG_CAST_PS(DNG_EPI32(cmpeq)(set, lane_bit))};
 }
 
 // ---- integers ----

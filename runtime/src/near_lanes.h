@@ -165,22 +165,17 @@ DNG_LANE_INLINE M keepShared(M live, NearList* io) {
   return live & laneMask(keep);
 }
 
-/// Gives each listed body its numbers: those of the chunk's response list where it has the body (and
-/// the body's place there, for the walk's first sample), else new ones.
+/// Gives each listed body its numbers, the index's (kept there since its rebuild), its material as it
+/// is now (materials may change without a rebuild), and its place in the chunk's response list, if any.
 DNG_LANE_INLINE void prepareListed(const StepBatch& batch, const NearList* responses, NearList* io) {
   std::size_t r = 0;
   for (std::size_t k = 0; k < io->count; ++k) {
     const std::int32_t b = io->index[k];
+    io->body[k] = &batch.prepared[b];
+    io->material[k] = &batch.bodies[b].material();
     while (responses != nullptr && r < responses->count && responses->index[r] < b)
       ++r;
-    if (responses != nullptr && r < responses->count && responses->index[r] == b) {
-      io->kept[k] = std::int32_t(r);
-      io->body[k] = responses->body[r];
-      continue;
-    }
-    io->kept[k] = -1;
-    batch.prepare(batch.context, std::size_t(b), &io->storage[k]);
-    io->body[k] = &io->storage[k];
+    io->kept[k] = responses != nullptr && r < responses->count && responses->index[r] == b ? std::int32_t(r) : -1;
   }
 }
 

@@ -29,11 +29,7 @@ namespace {
 // next step's sample and than the planes' largest measured overshoot (0.05 voxel, in exact mode
 // between a medial axis and the band's edge: docs/FORMAT.md §5.1).
 constexpr float kMarginVoxels = 0.06f;
-// Samples per body and step: enough for a design-speed step along a surface; swept bodies afford
-// any speed. A walk out of samples stops the particle early (docs/RUNTIME.md), it never crosses.
-constexpr int kWalkSamples = 24;
-constexpr int kSweptWalkSamples = 256;
-int walkSamples(const Body& body) { return body.material().swept ? kSweptWalkSamples : kWalkSamples; }
+int walkSamples(const Body& body) { return walkSamples(body.material()); } // step_batch.h
 
 // Samples kept from the responses for the walk: those of the first bodies that hold the particle in
 // their boxes (rarely more than two or three); more bodies sample twice.
@@ -158,7 +154,7 @@ void respondToBody(const Body& body, std::size_t index, float dt, ParticleState*
   }
 }
 
-bool collides(const Body& body) { return body.material().response != Response::kNone; }
+bool collides(const Body& body) { return collides(body.material()); }
 
 // Where the earliest body stopped a straight move, in the world at the end of the step.
 struct Stop {
@@ -285,33 +281,6 @@ const BatchKernels* kernelsFor(const Body* bodies, std::size_t body_count, bool 
   return kernels;
 }
 
-// The same numbers the scalar path computes per particle.
-StepBody prepare(const Body& body, const BodyMotions& motions, std::size_t index) {
-  const View& field = *body.field();
-  BodyMotion scratch;
-  const BodyMotion& motion = motions.get(index, &scratch);
-  StepBody out;
-  out.body = &body;
-  out.dense = field.grid().encoding == format::Encoding::kDense;
-  out.collides = collides(body);
-  out.start = currentPose(body);
-  out.end = motion.end;
-  out.travel = motion.travel;
-  out.band_world = field.grid().band * body.scale();
-  out.margin = kMarginVoxels * field.grid().voxel_size;
-  out.reach = field.guaranteedReach();
-  out.roomy = walkRoomy(field);
-  out.proof_level = walkProofLevel(field);
-  out.max_samples = walkSamples(body);
-  return out;
-}
-
-// StepBatch::prepare: body b's numbers, for a chunk of lanes that met it.
-void prepareFound(const void* context, std::size_t b, StepBody* out) {
-  const ScalarStep& step = *static_cast<const ScalarStep*>(context);
-  *out = prepare(step.bodies[b], *step.motions, b);
-}
-
 // The index's grid as the kernels read it.
 IndexGrid gridOf(const BodyIndex::Impl& index) {
   IndexGrid g;
@@ -344,16 +313,19 @@ void stepInLanes(const BatchKernels& kernels, const ScalarStep& scalar, std::siz
   if (body_count > kMaxBatchBodies) { // kernelsFor took it: there is an index
     const IndexGrid grid = gridOf(*index);
     batch.index = &grid;
-    batch.prepare = &prepareFound;
+    batch.prepared = index->prepared.data();
+    batch.bodies = scalar.bodies;
     kernels.step(batch);
     return;
   }
   NearList all;
   all.count = body_count;
   for (std::size_t b = 0; b < body_count; ++b) {
+    BodyMotion scratch;
     all.index[b] = all.kept[b] = std::int32_t(b);
-    all.storage[b] = prepare(scalar.bodies[b], *scalar.motions, b);
+    all.storage[b] = prepareStep(scalar.bodies[b], scalar.motions->get(b, &scratch));
     all.body[b] = &all.storage[b];
+    all.material[b] = &scalar.bodies[b].material();
   }
   batch.all = &all;
   kernels.step(batch);
@@ -385,6 +357,24 @@ Status step(const ParticleSpan& particles, float dt, const Body* bodies, std::si
 }
 
 } // namespace
+
+StepBody prepareStep(const Body& body, const BodyMotion& motion) {
+  const View& field = *body.field();
+  StepBody out;
+  out.field = &field;
+  out.dense = field.grid().encoding == format::Encoding::kDense;
+  out.start = currentPose(body);
+  out.end = motion.end;
+  out.lo = body.boundsMin(), out.hi = body.boundsMax();
+  out.linear = body.linearVelocity(), out.angular = body.angularVelocity();
+  out.travel = motion.travel;
+  out.band_world = field.grid().band * body.scale();
+  out.margin = kMarginVoxels * field.grid().voxel_size;
+  out.reach = field.guaranteedReach();
+  out.roomy = walkRoomy(field);
+  out.proof_level = walkProofLevel(field);
+  return out;
+}
 
 Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
                      Diagnostic* out_diag) {

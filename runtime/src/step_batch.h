@@ -15,19 +15,11 @@ namespace dng {
 /// one for every lane; more go through the scalar loop. With one (dng/body_index.h), any number.
 constexpr std::size_t kMaxBatchBodies = 8;
 
-/// One body as the step sees it: both poses and the walk's constants, computed with the same
-/// expressions the scalar path uses, so both paths compare the same numbers.
-struct StepBody {
-  const Body* body = nullptr;
-  bool dense = false;    ///< the field's encoding
-  bool collides = false; ///< material response is not kNone: the move is walked through it
-  Pose start, end;       ///< the body's pose at the start and at the end of the step
-  float travel = 0.0f;   ///< how far any point of its box moves in dt
-  float band_world = 0.0f;
-  // The walk's constants, local units (walk.h).
-  float margin = 0.0f, reach = 0.0f, roomy = 0.0f, proof_level = 0.0f;
-  int max_samples = 0;
-};
+/// Walk samples per body and step: enough for a design-speed step along a surface; swept bodies afford
+/// any speed. A walk out of samples stops the particle early (docs/RUNTIME.md), it never crosses.
+inline int walkSamples(const Material& material) { return material.swept ? 256 : 24; }
+/// Whether the move is walked through the body (its response is not kNone).
+inline bool collides(const Material& material) { return material.response != Response::kNone; }
 
 /// The bodies one chunk of lanes meets in one phase of the step (the responses, or the move), in
 /// increasing body index: the order the scalar path visits them in, so that ties between bodies
@@ -37,8 +29,9 @@ struct StepBody {
 struct NearList {
   static constexpr std::size_t kCapacity = 16;
   std::size_t count = 0;
-  std::int32_t index[kCapacity];   ///< into the call's bodies
-  const StepBody* body[kCapacity]; ///< its numbers: in `storage`, or in another list of the chunk
+  std::int32_t index[kCapacity];       ///< into the call's bodies
+  const StepBody* body[kCapacity];     ///< its numbers: the index's, or in `storage`
+  const Material* material[kCapacity]; ///< the body's, as it is now
   /// A move's list: each body's place in the chunk's response list, -1 when it is not there (the
   /// walk then takes a new sample at the start instead of the response's).
   std::int32_t kept[kCapacity];
@@ -71,11 +64,13 @@ struct StepBatch {
   float dt = 0.0f;
   /// Every body (1..kMaxBatchBodies), for every chunk and both phases; null when `index` is set.
   const NearList* all = nullptr;
-  /// Else the broadphase the chunks find their bodies with, and what prepares a found body's numbers.
+  /// Else the broadphase the chunks find their bodies with, the index's numbers of every body, and the
+  /// call's bodies (for their materials).
   const IndexGrid* index = nullptr;
-  void (*prepare)(const void* context, std::size_t body, StepBody* out) = nullptr;
+  const StepBody* prepared = nullptr;
+  const Body* bodies = nullptr;
   void (*scalar)(const void* context, std::size_t n) = nullptr;
-  const void* context = nullptr; ///< for `prepare` and `scalar`
+  const void* context = nullptr; ///< for `scalar`
 };
 
 /// The kernels of one instruction set.

@@ -46,7 +46,7 @@ DNG_LANE_INLINE V3 rotateToWorld(const Pose& pose, V3 v) {
 }
 
 template <bool kDense> DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active) {
-  return nearestLanes<kDense>(*b.body->field(), local, active);
+  return nearestLanes<kDense>(*b.field, local, active);
 }
 
 DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active) {
@@ -104,8 +104,7 @@ DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, 
   F touch_distance = splat(std::numeric_limits<float>::infinity());
   for (std::size_t k = 0; k < list.count; ++k) {
     const StepBody& sb = *list.body[k];
-    const Body& body = *sb.body;
-    const Vec3f lo = body.boundsMin(), hi = body.boundsMax();
+    const Vec3f lo = sb.lo, hi = sb.hi;
     const V3 p = io->position;
     const M in = live & (p.x >= splat(lo.x)) & (p.y >= splat(lo.y)) & (p.z >= splat(lo.z)) & (p.x <= splat(hi.x)) &
                  (p.y <= splat(hi.y)) & (p.z <= splat(hi.z));
@@ -116,13 +115,13 @@ DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, 
     kept->sample[k] = s;
     const M contact = in & s.in_band;
     if (!any(contact)) continue;
-    const F d = s.distance * splat(body.scale());
+    const F d = s.distance * splat(sb.start.scale);
     const V3 n = rotateToWorld(sb.start, s.normal);
-    const Vec3f lin = body.linearVelocity(), ang = body.angularVelocity();
+    const Vec3f lin = sb.linear, ang = sb.angular;
     const V3 surface = splat(lin.x, lin.y, lin.z) +
                        cross(splat(ang.x, ang.y, ang.z), p - splat(sb.start.t.x, sb.start.t.y, sb.start.t.z));
     V3 relative = io->velocity - surface;
-    const M acted = applyMaterial(body.material(), contact, d, n, sb.band_world, batch.dt, &relative);
+    const M acted = applyMaterial(*list.material[k], contact, d, n, sb.band_world, batch.dt, &relative);
     io->velocity = select(acted, relative + surface, io->velocity);
     const M nearer = acted & (d < touch_distance);
     touch_distance = select(nearer, d, touch_distance);
@@ -132,7 +131,7 @@ DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, 
 
 // step.cpp segmentNearBounds.
 DNG_LANE_INLINE M nearBounds(const StepBody& sb, V3 a, V3 e) {
-  const Vec3f lo = sb.body->boundsMin(), hi = sb.body->boundsMax();
+  const Vec3f lo = sb.lo, hi = sb.hi;
   const float tr = sb.travel;
   return ~((maxOf(a.x, e.x) < splat(lo.x - tr)) | (minOf(a.x, e.x) > splat(hi.x + tr)) |
            (maxOf(a.y, e.y) < splat(lo.y - tr)) | (minOf(a.y, e.y) > splat(hi.y + tr)) |
@@ -148,6 +147,28 @@ DNG_LANE_INLINE M insideGrid(const GridInfo& g, V3 p) {
     in = in & (c[axis] >= splat(lo)) & (c[axis] < splat(lo + float(g.dims[axis]) * g.voxel_size));
   }
   return in;
+}
+
+// walk.cpp clipToGrid for segments a + t d, t in [0, 1], with an end outside the grid: the lanes whose
+// segment misses the grid's box, which the scalar walk calls clear. A body's box is the box of its
+// turned grid, so many particles in a building's box are beside its grid, not in it.
+DNG_LANE_INLINE M missesGrid(const GridInfo& g, V3 a, V3 d) {
+  const F av[3] = {a.x, a.y, a.z}, dv[3] = {d.x, d.y, d.z};
+  const F zero = splat(0.0f);
+  F t0 = zero, t1 = splat(1.0f);
+  M miss = andNot(allTrue(), allTrue());
+  for (int axis = 0; axis < 3; ++axis) {
+    const float lo = component(g.origin, axis);
+    const F lo_f = splat(lo), hi_f = splat(lo + float(g.dims[axis]) * g.voxel_size);
+    const M flat = ~(dv[axis] != zero); // dir == 0: the axis's slab holds the start or nothing
+    miss = miss | (flat & ~((av[axis] >= lo_f) & (av[axis] < hi_f)));
+    const F ta = (lo_f - av[axis]) / dv[axis], tb = (hi_f - av[axis]) / dv[axis];
+    const M swap = ta > tb;
+    // std::max(t0, x) is (t0 < x ? x : t0), which is maxOf(x, t0); std::min(t1, x) likewise.
+    t0 = select(flat, t0, maxOf(select(swap, tb, ta), t0));
+    t1 = select(flat, t1, minOf(select(swap, ta, tb), t1));
+  }
+  return miss | ~(t0 <= t1);
 }
 
 DNG_LANE_INLINE LaneSample merge(M m, const LaneSample& a, const LaneSample& b) {
@@ -178,8 +199,9 @@ DNG_LANE_INLINE F cellExit(const GridInfo& g, float inv_h, V3 a, V3 d, F t) {
 // test, cell planes that stay clear to the cell's wall, the end point's proof. Returns the lanes it
 // proves clear; every other near lane needs the scalar walk (a stop, a slide, a neighbour bound, a
 // clip at the grid's edge, a walk out of samples).
-DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 a, V3 end, const LaneSample* kept, M kept_valid, M near) {
-  const View& field = *sb.body->field();
+DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, const LaneSample* kept, M kept_valid,
+                            M near) {
+  const View& field = *sb.field;
   const GridInfo& g = field.grid();
   const V3 delta = toLocal(sb.end, end) - a;
   const F len = length(delta);
@@ -191,8 +213,12 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 a, V3 end, const LaneSample* 
   const F zero = splat(0.0f), one = splat(1.0f);
   // The common case first: far from the surface, the first ball covers the whole step.
   M clear = ~near | ~(len > zero) | ((s.far_outside | s.in_band) & (minOf(reach, s.distance) - margin - len >= roomy));
-  // Segments that leave the grid are clipped first: the scalar walk's job.
-  M active = andNot(near & insideGrid(g, a) & insideGrid(g, a + delta), clear);
+  // Segments that miss the grid's box are clear; those that leave it are clipped first, the scalar
+  // walk's job.
+  const M inside = insideGrid(g, a) & insideGrid(g, a + delta);
+  const M outside = andNot(andNot(near, inside), clear);
+  if (any(outside)) clear = clear | (outside & missesGrid(g, a, delta));
+  M active = andNot(near & inside, clear);
   // Two balls, the start's and the end's (walk.cpp twoBallsClear).
   const M usable = active & (s.far_outside | s.in_band);
   if (any(usable)) {
@@ -206,7 +232,7 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, V3 a, V3 end, const LaneSample* 
   }
   const F nudge = splat(2e-3f * g.voxel_size) / len;
   F t = zero;
-  for (int n = 0; n < sb.max_samples && any(active); ++n) {
+  for (int n = 0; n < max_samples && any(active); ++n) {
     const M arrived = active & (t >= one);
     clear = clear | arrived;
     active = andNot(active, arrived);
@@ -251,7 +277,8 @@ DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p
   M done = live;
   for (std::size_t k = 0; k < list.count && any(done); ++k) {
     const StepBody& sb = *list.body[k];
-    if (!sb.collides) continue;
+    const Material& material = *list.material[k];
+    if (!collides(material)) continue;
     const M near = done & nearBounds(sb, p.position, end);
     if (!any(near)) continue;
     // The response kept the start's local position and sample where the body's box held the particle
@@ -260,7 +287,7 @@ DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p
     const bool has_kept = r >= 0 && any(kept.valid[r]);
     const M kept_valid = has_kept ? kept.valid[r] : andNot(live, live);
     const V3 a = has_kept ? kept.local[r] : toLocal(sb.start, p.position);
-    done = done & walkLanes(sb, a, end, has_kept ? &kept.sample[r] : nullptr, kept_valid, near);
+    done = done & walkLanes(sb, walkSamples(material), a, end, has_kept ? &kept.sample[r] : nullptr, kept_valid, near);
   }
   return done;
 }
