@@ -3,14 +3,14 @@ import json
 import sys
 
 
-def medians(path, counter):
-    """Median of `counter` (seconds per item) in ns, and the label, per benchmark."""
+def medians(path, counter, scale=1e9):
+    """Median of `counter` times `scale` (by default: seconds per item to ns), and the label, per benchmark."""
     with open(path) as f:
         data = json.load(f)
     out = {}
     for b in data["benchmarks"]:
         if b.get("aggregate_name") == "median":
-            out[b["run_name"]] = (b[counter] * 1e9, b.get("label", ""))
+            out[b["run_name"]] = (b[counter] * scale, b.get("label", ""))
     return data["context"], out
 
 
@@ -283,8 +283,8 @@ def threads_section(path):
           "interleaved; run of %s). "
           "On a machine whose cores other work shares, the second thread gets what is left of the second core.\n"
           % (context.get("num_cpus", 0), context.get("date", "?")))
-    _, cpu = medians(path, "cpu_ms_busiest_thread")  # milliseconds, not seconds: undo medians' scaling
-    cpu_one, cpu_two = cpu["BM_Threads/1/real_time"][0] * 1e-9, cpu["BM_Threads/2/real_time"][0] * 1e-9
+    _, cpu = medians(path, "cpu_ms_busiest_thread", scale=1.0)  # already milliseconds
+    cpu_one, cpu_two = cpu["BM_Threads/1/real_time"][0], cpu["BM_Threads/2/real_time"][0]
     print("The last columns time the busiest thread's CPU alone, which time spent descheduled does not count.\n")
     print("| threads | ns/particle | speed-up | busiest thread's CPU ms per step | speed-up by CPU time |")
     print("|---|---:|---:|---:|---:|")

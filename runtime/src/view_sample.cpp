@@ -38,6 +38,11 @@ DNG_FORCE_INLINE std::size_t offsetInBrick(std::uint32_t log2, std::uint32_t i, 
   const std::uint32_t mask = (1u << log2) - 1;
   return (std::size_t(k & mask) << (2 * log2)) | (std::size_t(j & mask) << log2) | (i & mask);
 }
+// The pool word of voxel (i, j, k) in the brick of top entry `entry` (a brick entry).
+DNG_FORCE_INLINE std::size_t poolWordOf(std::uint64_t entry, std::uint32_t log2, std::uint32_t i, std::uint32_t j,
+                                        std::uint32_t k) {
+  return (std::size_t(fmt::entryPoolIndex(entry)) << (3 * log2)) + offsetInBrick(log2, i, j, k);
+}
 
 } // namespace
 
@@ -65,14 +70,13 @@ DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kDense>(std::u
   return {v.distance, {v.normal[0], v.normal[1], v.normal[2]}};
 }
 
-template <>
-DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j,
-                                                                            std::uint32_t k) const {
+// The same for a bricked voxel whose tile's top entry the caller has read.
+DNG_FORCE_INLINE View::VoxelValue View::brickedValue(std::uint64_t entry, std::uint32_t i, std::uint32_t j,
+                                                     std::uint32_t k) const {
   const std::uint32_t s = brick_log2_;
-  const std::uint64_t entry = top_[tileOf(grid_, s, i, j, k)];
   const fmt::TileKind kind = fmt::entryKind(entry);
   if (kind == fmt::TileKind::kBrick) { // the common case near a curved surface
-    const std::uint32_t word = pool_[(std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + offsetInBrick(s, i, j, k)];
+    const std::uint32_t word = pool_[poolWordOf(entry, s, i, j, k)];
     const float lo = fmt::rangeValue(fmt::entryLo16(entry), grid_.band, range_step_);
     const float hi = fmt::rangeValue(fmt::entryHi16(entry), grid_.band, range_step_);
     return {fmt::wordDistance(word, lo, hi, fmt::brickDistanceStep(lo, hi)), fmt::wordNormal(word)};
@@ -87,6 +91,12 @@ DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kBricked>(std:
     return {fmt::entryPlaneDistance(entry) + grid_.voxel_size * dot(n, from_centre), n};
   }
   return {kind == fmt::TileKind::kFarOutside ? grid_.band : -grid_.band, Vec3f{}};
+}
+
+template <>
+DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j,
+                                                                            std::uint32_t k) const {
+  return brickedValue(top_[tileOf(grid_, brick_log2_, i, j, k)], i, j, k);
 }
 
 template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearest(Vec3f p) const {
@@ -150,39 +160,38 @@ template <fmt::Encoding kEncoding> Sample View::trilinear(Vec3f p) const {
   return finish(distance, normalizeOrZero(normal));
 }
 
-// The LIFT section's value for voxel (i, j, k): 0 without the section and on far tiles.
-template <> float View::liftAt<fmt::Encoding::kDense>(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
-  if (lift_ == nullptr) return 0.0f;
-  return float(lift_[(std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i]) * lift_step_;
+// What the accurate query reads at voxel (i, j, k): voxelValue, and for a voxel whose stored value is
+// in band its lift (LIFT, §5.2: per voxel, per plane tile or per pool word) added to the distance, and
+// its gradient (GRAD, §5.3: per voxel or per pool word; a plane tile's normal is its gradient already)
+// in place of the stored normal. Without the sections, voxelValue itself.
+template <>
+View::AccurateValue View::accurateValue<fmt::Encoding::kDense>(std::uint32_t i, std::uint32_t j,
+                                                               std::uint32_t k) const {
+  const VoxelValue v = voxelValue<fmt::Encoding::kDense>(i, j, k);
+  AccurateValue out{v.distance, v.normal, std::fabs(v.distance) < grid_.band};
+  if (!out.in_band) return out;
+  const std::size_t at = (std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i;
+  if (lift_ != nullptr) out.distance = v.distance + float(lift_[at]) * lift_step_;
+  if (gradient_ != nullptr) out.normal = fmt::gradientNormal(gradient_[at]);
+  return out;
 }
 
-template <> float View::liftAt<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j, std::uint32_t k) const {
-  if (lift_ == nullptr) return 0.0f;
-  const std::uint32_t s = brick_log2_;
-  const std::size_t tile = tileOf(grid_, s, i, j, k);
+template <>
+View::AccurateValue View::accurateValue<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j,
+                                                                 std::uint32_t k) const {
+  const std::size_t tile = tileOf(grid_, brick_log2_, i, j, k);
   const std::uint64_t entry = top_[tile];
-  if (fmt::entryKind(entry) == fmt::TileKind::kPlane) return float(lift_[tile]) * lift_step_;
-  if (fmt::entryKind(entry) != fmt::TileKind::kBrick) return 0.0f;
-  const std::size_t word = (std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + offsetInBrick(s, i, j, k);
-  return float(lift_pool_[word]) * lift_step_;
-}
-
-// The GRAD section's normal for voxel (i, j, k), or `stored` without the section and outside bricks
-// (a plane tile's normal is its distance's gradient already).
-template <>
-Vec3f View::gradientAt<fmt::Encoding::kDense>(std::uint32_t i, std::uint32_t j, std::uint32_t k, Vec3f stored) const {
-  if (gradient_ == nullptr) return stored;
-  return fmt::gradientNormal(gradient_[(std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i]);
-}
-
-template <>
-Vec3f View::gradientAt<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j, std::uint32_t k, Vec3f stored) const {
-  if (gradient_ == nullptr) return stored;
-  const std::uint32_t s = brick_log2_;
-  const std::uint64_t entry = top_[tileOf(grid_, s, i, j, k)];
-  if (fmt::entryKind(entry) != fmt::TileKind::kBrick) return stored;
-  return fmt::gradientNormal(
-      gradient_[(std::size_t(fmt::entryPoolIndex(entry)) << (3 * s)) + offsetInBrick(s, i, j, k)]);
+  const VoxelValue v = brickedValue(entry, i, j, k);
+  AccurateValue out{v.distance, v.normal, std::fabs(v.distance) < grid_.band};
+  if (!out.in_band) return out; // far tiles among them: they read as +-band
+  if (fmt::entryKind(entry) == fmt::TileKind::kPlane) {
+    if (lift_ != nullptr) out.distance = v.distance + float(lift_[tile]) * lift_step_;
+    return out;
+  }
+  const std::size_t word = poolWordOf(entry, brick_log2_, i, j, k);
+  if (lift_ != nullptr) out.distance = v.distance + float(lift_pool_[word]) * lift_step_;
+  if (gradient_ != nullptr) out.normal = fmt::gradientNormal(gradient_[word]);
+  return out;
 }
 
 namespace {
@@ -235,12 +244,9 @@ template <fmt::Encoding kEncoding> Sample View::accurate(Vec3f p) const {
   Corner corners[8];
   for (int corner = 0; corner < 8; ++corner) {
     const std::uint32_t i = s.index(corner, 0), j = s.index(corner, 1), k = s.index(corner, 2);
-    const VoxelValue v = voxelValue<kEncoding>(i, j, k);
-    const bool in_band = std::fabs(v.distance) < grid_.band;
-    corners[corner] = {in_band ? v.distance + liftAt<kEncoding>(i, j, k) : v.distance,
-                       in_band ? gradientAt<kEncoding>(i, j, k, v.normal) : v.normal,
-                       {u[0] - float(i) - 0.5f, u[1] - float(j) - 0.5f, u[2] - float(k) - 0.5f},
-                       in_band};
+    const AccurateValue v = accurateValue<kEncoding>(i, j, k);
+    corners[corner] = {
+        v.distance, v.normal, {u[0] - float(i) - 0.5f, u[1] - float(j) - 0.5f, u[2] - float(k) - 0.5f}, v.in_band};
   }
   extendPastTheBand(corners, grid_.band, grid_.voxel_size);
   const float half_voxel = 0.5f * grid_.voxel_size;

@@ -118,10 +118,15 @@ private:
   template <format::Encoding kEncoding> Sample nearest(Vec3f p) const;
   template <format::Encoding kEncoding> Sample trilinear(Vec3f p) const;
   template <format::Encoding kEncoding> Sample accurate(Vec3f p) const;
-  template <format::Encoding kEncoding> float liftAt(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
-  template <format::Encoding kEncoding>
-  Vec3f gradientAt(std::uint32_t i, std::uint32_t j, std::uint32_t k, Vec3f stored) const;
   template <format::Encoding kEncoding> VoxelValue voxelValue(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
+  VoxelValue brickedValue(std::uint64_t entry, std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
+  struct AccurateValue {
+    float distance;
+    Vec3f normal;
+    bool in_band; ///< of the stored value, before any lift
+  };
+  template <format::Encoding kEncoding>
+  AccurateValue accurateValue(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
   bool toVoxelUnits(Vec3f p, float out_u[3]) const;
   Sample finish(float distance, Vec3f normal) const;
 

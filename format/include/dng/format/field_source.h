@@ -6,6 +6,7 @@
 #include "dng/format/dense_field.h"
 
 #include <cstdint>
+#include <vector>
 
 namespace dng {
 namespace format {
@@ -64,30 +65,23 @@ public:
   explicit DenseSource(const DenseField& field) : field_(field) {}
   const GridGeometry& grid() const override { return field_.grid; }
   void read(const VoxelBox& box, float* distance, Vec3f* normal) const override {
-    for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
-      for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
-        for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i) {
-          const std::size_t v = field_.grid.index(i, j, k);
-          *distance++ = field_.distance[v];
-          *normal++ = field_.normal[v];
-        }
+    copyBox(field_.distance, box, distance);
+    copyBox(field_.normal, box, normal);
   }
   bool hasAccurate() const override { return !field_.accurate.empty(); }
-  void readAccurate(const VoxelBox& box, float* distance) const override {
-    for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
-      for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
-        for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
-          *distance++ = field_.accurate[field_.grid.index(i, j, k)];
-  }
+  void readAccurate(const VoxelBox& box, float* distance) const override { copyBox(field_.accurate, box, distance); }
   bool hasGradient() const override { return !field_.gradient.empty(); }
-  void readGradient(const VoxelBox& box, Vec3f* gradient) const override {
-    for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
-      for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
-        for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
-          *gradient++ = field_.gradient[field_.grid.index(i, j, k)];
-  }
+  void readGradient(const VoxelBox& box, Vec3f* gradient) const override { copyBox(field_.gradient, box, gradient); }
 
 private:
+  // The box's entries of one per-voxel array, x fastest.
+  template <class T> void copyBox(const std::vector<T>& values, const VoxelBox& box, T* out) const {
+    for (std::uint32_t k = box.lo[2]; k < box.hi[2]; ++k)
+      for (std::uint32_t j = box.lo[1]; j < box.hi[1]; ++j)
+        for (std::uint32_t i = box.lo[0]; i < box.hi[0]; ++i)
+          *out++ = values[field_.grid.index(i, j, k)];
+  }
+
   const DenseField& field_;
 };
 
