@@ -5,6 +5,7 @@
 #include "broadphase.h"
 #include "dng/particles.h"
 #include "pose.h"
+#include "walk.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -79,6 +80,10 @@ struct BatchKernels {
   void (*sample_nearest)(const View& view, const float* points, std::size_t stride, std::size_t count,
                          Sample* out_samples);
   void (*step)(const StepBatch& batch);
+  /// walk.cpp's neighbour bound over `points`: max(-reach, value - gap) over the 26, where a cell's
+  /// value is its sample's distance capped at reach (reach where there is no field), far inside cells
+  /// left out.
+  float (*neighbour_bound)(const View& view, const NeighbourPoints& points, float reach);
 };
 
 /// Whether the kernels may take a view: their 32-bit lane indices reach every byte of one under 8 GiB.

@@ -12,6 +12,7 @@
 
 #include "dng/responses.h"
 #include "near_lanes.h"
+#include "neighbour_lanes.h"
 #include "sample_lanes.h"
 #include "step_batch.h"
 #include "strided.h"

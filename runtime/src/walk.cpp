@@ -1,6 +1,7 @@
 // The conservative walk (walk.h). Beyond the paper: its particles are tested at the end of each step
 // only, so a fast or grazing particle can pass through an edge or a thin part between two tests.
 #include "walk.h"
+#include "step_batch.h"
 
 #include <algorithm>
 #include <cmath>
@@ -53,48 +54,52 @@ float cellExit(const GridInfo& g, float inv_h, Vec3f a, Vec3f d, float t) {
 
 WalkResult stopAt(WalkStop stop, float t, Vec3f normal) { return {stop, t, normal}; }
 
+// The cells around p's own: for each, the point of the cell nearest p (just past the wall between
+// the two) and how far p is from it. Per axis a neighbour lies below (0), level with (1) or above (2)
+// p's cell; level, it takes p's own coordinate and adds nothing to the squared gap.
+NeighbourPoints neighboursOf(const GridInfo& g, Vec3f p) {
+  const float h = g.voxel_size, inv_h = 1.0f / h;
+  constexpr float kInto = 1e-3f; // voxel units past a wall, so the sample lands in the other cell
+  float coord[3][3], term[3][3];
+  for (int axis = 0; axis < 3; ++axis) {
+    const float origin = component(g.origin, axis);
+    const float u = (component(p, axis) - origin) * inv_h, cell = std::floor(u);
+    const float below = cell - kInto, above = cell + 1.0f + kInto;
+    coord[axis][0] = origin + below * h, coord[axis][1] = component(p, axis), coord[axis][2] = origin + above * h;
+    term[axis][0] = (u - below) * (u - below), term[axis][1] = 0.0f, term[axis][2] = (u - above) * (u - above);
+  }
+  NeighbourPoints out;
+  float gap2[NeighbourPoints::kPadded];
+  int count = 0;
+  for (int n = 0; n < 27; ++n) {
+    if (n == 13) continue; // p's own cell
+    const int i = n % 3, j = (n / 3) % 3, k = n / 9;
+    out.x[count] = coord[0][i], out.y[count] = coord[1][j], out.z[count] = coord[2][k];
+    gap2[count++] = term[0][i] + term[1][j] + term[2][k]; // + 0 leaves a sum's bits as they are
+  }
+  for (int k = NeighbourPoints::kCount; k < NeighbourPoints::kPadded; ++k)
+    out.x[k] = out.x[0], out.y[k] = out.y[0], out.z[k] = out.z[0], gap2[k] = gap2[0];
+  for (int k = 0; k < NeighbourPoints::kPadded; ++k)
+    out.gap[k] = std::sqrt(gap2[k]) * h;
+  return out;
+}
+
 // A lower bound of the distance at p from the 26 cells around p's own. A cell's plane bounds the
 // distance only inside that cell, but the distance is 1-Lipschitz, so the plane's value at the cell
 // point nearest p, less the distance to it, bounds it at p too. This is what proves a point outside
 // when its own cell's plane cannot: near a convex edge the plane of the face the voxel centre is
 // closest to reads far below zero just outside the other face.
 float neighbourBound(const View& field, float reach, Vec3f p) {
-  const GridInfo& g = field.grid();
-  const float h = g.voxel_size, inv_h = 1.0f / h;
-  constexpr float kInto = 1e-3f; // voxel units past a wall, so the sample lands in the other cell
-  float u[3], cell[3];
-  for (int axis = 0; axis < 3; ++axis) {
-    u[axis] = (component(p, axis) - component(g.origin, axis)) * inv_h;
-    cell[axis] = std::floor(u[axis]);
-  }
-  Vec3f points[26];
-  float gaps2[26];
-  int count = 0;
-  for (int n = 0; n < 27; ++n) {
-    const int offset[3] = {n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1};
-    if (n == 13) continue; // p's own cell
-    Vec3f q = p;
-    float gap2 = 0.0f;
-    for (int axis = 0; axis < 3; ++axis) {
-      if (offset[axis] == 0) continue;
-      // The nearest point of the neighbour: just past the wall between it and p's cell.
-      const float wall = offset[axis] < 0 ? cell[axis] - kInto : cell[axis] + 1.0f + kInto;
-      component(q, axis) = component(g.origin, axis) + wall * h;
-      gap2 += (u[axis] - wall) * (u[axis] - wall);
-    }
-    points[count] = q;
-    gaps2[count++] = gap2;
-  }
-  // One batch: the SIMD kernels take the 26 samples in lanes (dng/instruction_set.h).
-  Sample samples[26];
-  static_assert(sizeof(Vec3f) == 3 * sizeof(float), "points are packed xyz");
-  field.sampleBatch(&points[0].x, sizeof(Vec3f), 26, samples);
+  const NeighbourPoints points = neighboursOf(field.grid(), p);
+  // The SIMD kernels take the 26 samples in lanes (dng/instruction_set.h), with the same result.
+  const BatchKernels* kernels = activeBatchKernels();
+  if (kernels != nullptr && batchIndexable(field)) return kernels->neighbour_bound(field, points, reach);
   float best = -reach;
-  for (int k = 0; k < 26; ++k) {
-    const Sample& s = samples[k];
+  for (int k = 0; k < NeighbourPoints::kCount; ++k) {
+    const Sample s = field.sample({points.x[k], points.y[k], points.z[k]});
     if (s.status == SampleStatus::kFarInside) continue;
     const float value = s.status == SampleStatus::kNoField ? reach : std::min(s.distance, reach);
-    best = std::max(best, value - std::sqrt(gaps2[k]) * h);
+    best = std::max(best, value - points.gap[k]);
   }
   return best;
 }

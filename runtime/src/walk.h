@@ -37,6 +37,15 @@ inline float walkRoomy(const View& field) { return 3.0f * field.grid().voxel_siz
 /// covers more.
 inline float walkProofLevel(const View& field) { return 0.01f * field.grid().voxel_size; }
 
+/// The 26 cells around a point's own, as the walk's neighbour bound reads them (walk.cpp): for each,
+/// the point of the cell nearest p and how far that is (local units). Entries past the 26th copy the
+/// first, which changes no maximum, so lanes of any width take whole registers.
+struct NeighbourPoints {
+  static constexpr int kCount = 26;
+  static constexpr int kPadded = 32;
+  alignas(32) float x[kPadded], y[kPadded], z[kPadded], gap[kPadded];
+};
+
 /// Walks the local segment a -> a + delta through `field`, keeping at least `margin` (local units)
 /// between the path and the surface as far as the field can prove it. `first`, when not null, is the
 /// field's sample at `a` (the step already took it for the particle's response). A start point the

@@ -1,0 +1,41 @@
+// Internal: the walk's neighbour bound (walk.cpp neighbourBound) with its 26 samples in lanes. The
+// samples are nearestLanes, lane for lane the scalar View::sample; what the scalar loop does with each
+// is done here with the same operations, and a maximum does not depend on the order it is taken in, so
+// the bound is bit for bit the scalar one.
+//
+// Include after sample_lanes.h.
+#pragma once
+
+#include "sample_lanes.h"
+#include "walk.h"
+
+#include <algorithm>
+
+namespace dng {
+namespace lanes {
+namespace DNG_LANES_NS {
+
+template <bool kDense> float neighbourBoundLanes(const View& view, const NeighbourPoints& points, float reach) {
+  static_assert(NeighbourPoints::kPadded % kWidth == 0, "the padded points fill whole registers");
+  const F cap = splat(reach);
+  F best = splat(-reach);
+  for (int n = 0; n < NeighbourPoints::kPadded; n += kWidth) {
+    const V3 p{load(points.x + n), load(points.y + n), load(points.z + n)};
+    const LaneSample s = nearestLanes<kDense>(view, p, allTrue());
+    const F value = select(s.no_field, cap, minOf(s.distance, cap));
+    best = select(s.far_inside, best, maxOf(value - load(points.gap + n), best));
+  }
+  alignas(32) float lane[kWidth];
+  store(lane, best);
+  return *std::max_element(lane, lane + kWidth);
+}
+
+/// The kernel table's entry (step_batch.h BatchKernels) for either encoding.
+inline float neighbourBound(const View& view, const NeighbourPoints& points, float reach) {
+  if (view.grid().encoding == format::Encoding::kDense) return neighbourBoundLanes<true>(view, points, reach);
+  return neighbourBoundLanes<false>(view, points, reach);
+}
+
+} // namespace DNG_LANES_NS
+} // namespace lanes
+} // namespace dng
