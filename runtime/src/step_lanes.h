@@ -150,13 +150,13 @@ DNG_LANE_INLINE M insideGrid(const GridInfo& g, V3 p) {
   return in;
 }
 
-// walk.cpp clipToGrid for segments a + t d, t in [0, 1], with an end outside the grid: the lanes whose
-// segment misses the grid's box, which the scalar walk calls clear. A body's box is the box of its
-// turned grid, so many particles in a building's box are beside its grid, not in it.
-DNG_LANE_INLINE M missesGrid(const GridInfo& g, V3 a, V3 d) {
+// walk.cpp clipToGrid for segments a + t d, t in [0, 1], with an end outside the grid: the part
+// [*t0, *t1] inside it, and the lanes whose segment misses the grid's box, which the scalar walk calls
+// clear. A body's box is the box of its turned grid, so many particles in a building's box are beside
+// its grid, not in it; near a grid's faces, moves leave it.
+DNG_LANE_INLINE M clipToGrid(const GridInfo& g, V3 a, V3 d, F* t0, F* t1) {
   const F av[3] = {a.x, a.y, a.z}, dv[3] = {d.x, d.y, d.z};
   const F zero = splat(0.0f);
-  F t0 = zero, t1 = splat(1.0f);
   M miss = andNot(allTrue(), allTrue());
   for (int axis = 0; axis < 3; ++axis) {
     const float lo = component(g.origin, axis);
@@ -166,10 +166,10 @@ DNG_LANE_INLINE M missesGrid(const GridInfo& g, V3 a, V3 d) {
     const F ta = (lo_f - av[axis]) / dv[axis], tb = (hi_f - av[axis]) / dv[axis];
     const M swap = ta > tb;
     // std::max(t0, x) is (t0 < x ? x : t0), which is maxOf(x, t0); std::min(t1, x) likewise.
-    t0 = select(flat, t0, maxOf(select(swap, tb, ta), t0));
-    t1 = select(flat, t1, minOf(select(swap, ta, tb), t1));
+    *t0 = select(flat, *t0, maxOf(select(swap, tb, ta), *t0));
+    *t1 = select(flat, *t1, minOf(select(swap, ta, tb), *t1));
   }
-  return miss | ~(t0 <= t1);
+  return miss | ~(*t0 <= *t1);
 }
 
 DNG_LANE_INLINE LaneSample merge(M m, const LaneSample& a, const LaneSample& b) {
@@ -179,6 +179,12 @@ DNG_LANE_INLINE LaneSample merge(M m, const LaneSample& a, const LaneSample& b) 
           (m & a.far_outside) | andNot(b.far_outside, m),
           (m & a.far_inside) | andNot(b.far_inside, m),
           (m & a.no_field) | andNot(b.no_field, m)};
+}
+
+// The walk's first sample: the start's, except in the lanes `entered` whose segment enters the grid
+// from outside, which sample where it enters (p).
+DNG_LANE_INLINE LaneSample firstSample(const StepBody& sb, V3 p, const LaneSample& start, M entered) {
+  return any(entered) ? merge(entered, sampleBody(sb, p, entered), start) : start;
 }
 
 // walk.cpp cellExit: where the segment a + t d leaves the cell that holds a + t d.
@@ -214,14 +220,19 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
   const F zero = splat(0.0f), one = splat(1.0f);
   // The common case first: far from the surface, the first ball covers the whole step.
   M clear = ~near | ~(len > zero) | ((s.far_outside | s.in_band) & (minOf(reach, s.distance) - margin - len >= roomy));
-  // Segments that miss the grid's box are clear; those that leave it are clipped first, the scalar
-  // walk's job.
+  // Segments that miss the grid's box are clear; those that leave it are walked over the part
+  // [t, t_end] inside it.
+  F t = zero, t_end = one;
   const M inside = insideGrid(g, a) & insideGrid(g, a + delta);
   const M outside = andNot(andNot(near, inside), clear);
-  if (any(outside)) clear = clear | (outside & missesGrid(g, a, delta));
-  M active = andNot(near & inside, clear);
-  // Two balls, the start's and the end's (walk.cpp twoBallsClear).
-  const M usable = active & (s.far_outside | s.in_band);
+  if (any(outside)) {
+    F t0 = zero, t1 = one;
+    clear = clear | (outside & clipToGrid(g, a, delta, &t0, &t1));
+    t = select(outside, t0, t), t_end = select(outside, t1, t_end);
+  }
+  M active = andNot(near, clear);
+  // Two balls, the start's and the end's (walk.cpp twoBallsClear), for the whole segment only.
+  const M usable = active & (s.far_outside | s.in_band) & ~(t != zero) & ~(t_end != one);
   if (any(usable)) {
     const LaneSample e = sampleBody(sb, a + delta, usable);
     const M end_proven = e.far_outside | e.no_field | (e.in_band & (e.distance >= proof));
@@ -232,25 +243,25 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
     active = andNot(active, two);
   }
   const F nudge = splat(2e-3f * g.voxel_size) / len;
-  F t = zero;
   for (int n = 0; n < max_samples && any(active); ++n) {
-    const M arrived = active & (t >= one);
+    const M arrived = active & (t >= t_end);
     clear = clear | arrived;
     active = andNot(active, arrived);
-    const LaneSample here = n == 0 ? s : sampleBody(sb, a + delta * t, active);
+    const LaneSample here =
+        n == 0 ? firstSample(sb, a + delta * t, s, active & (t != zero)) : sampleBody(sb, a + delta * t, active);
     const M no_field = active & here.no_field; // rounding at a face of the grid: step on
     t = select(no_field, t + nudge, t);
     M live = andNot(active, no_field);
     const F q = select(here.far_inside, zero - reach, minOf(reach, here.distance));
     const F gap = q - margin;
-    const F rest = (one - t) * len;
+    const F rest = (t_end - t) * len;
     // One ball covers the rest: clear when it leaves room, or when the end proves itself outside.
     const M covers = live & (gap >= rest);
     const M roomy_end = covers & (gap - rest >= roomy);
     const M need_end = andNot(covers, roomy_end);
     clear = clear | roomy_end;
     if (any(need_end)) {
-      const LaneSample e = sampleBody(sb, a + delta * one, need_end);
+      const LaneSample e = sampleBody(sb, a + delta * t_end, need_end);
       clear = clear | (need_end & (e.far_outside | e.no_field | (e.in_band & (e.distance >= proof))));
     }
     active = andNot(active, covers);
@@ -262,15 +273,15 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
     const F rate = select(here.in_band, dot(here.normal, delta), zero);
     const F exit = cellExit(g, ViewInternals::invVoxelSize(field), a, delta, t);
     const F hit = t + gap / (zero - rate);
-    const M stop = live & (rate < zero) & (gap >= zero) & (hit < exit) & (hit < one);
+    const M stop = live & (rate < zero) & (gap >= zero) & (hit < exit) & (hit < t_end);
     const M to_wall = andNot(live, stop) & ((gap >= zero) | ((rate >= zero) & (q >= proof) & here.in_band));
-    const M through = to_wall & (exit >= one);
+    const M through = to_wall & (exit >= t_end);
     clear = clear | through;
     const M next = andNot(to_wall, through);
     t = select(next, maxOf(t + gap / len, exit + nudge), t);
     active = andNot(active, andNot(live, next)); // stops and neighbour bounds go to the scalar walk
   }
-  return clear | (active & (t >= one));
+  return clear | (active & (t >= t_end));
 }
 
 // The move's walks through the listed bodies, for the lanes `live`: the lanes every one proves clear.
