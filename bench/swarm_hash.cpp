@@ -1,0 +1,179 @@
+// swarm_hash: steps a fixed swarm near the surface of a baked field and prints a hash of every step's
+// result and the stepping thread's CPU time per particle-step.
+//
+// A tool for work on the step, not a benchmark with a goal: a change that must not change results
+// (a faster kernel, a refactor) gives the same hash before and after, on any real mesh, and the time
+// is a quick A/B between two builds run in turn. Its fixed load is also a steady target for profilers
+// (perf, callgrind) without the bake that table1_bench does first.
+//
+//   swarm_hash FIELD.dng [--particles N] [--steps N] [--swept] [--isa scalar|sse4.1|avx2|neon]
+//
+// The swarm: points drawn uniformly in the field's box, kept where the field reads 0 to 2 voxels
+// outside, with random velocities up to 1.5 voxels per step on each axis, gravity of 0.02 voxel per
+// step squared, impact (beta 0.5) with drag and flow as in table1_bench. Exit codes: 0 done, 1 bad
+// arguments or unreadable field, 2 a step failed.
+#include "dng/body.h"
+#include "dng/file.h"
+#include "dng/instruction_set.h"
+#include "dng/particles.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace dng;
+
+constexpr float kDt = 1.0f / 60.0f;
+
+struct Options {
+  const char* field = nullptr;
+  std::size_t particles = 200000;
+  int steps = 40;
+  bool swept = false;
+  InstructionSet isa = bestInstructionSet();
+};
+
+bool parseIsa(const char* name, InstructionSet* out) {
+  for (InstructionSet set :
+       {InstructionSet::kScalar, InstructionSet::kSse41, InstructionSet::kAvx2, InstructionSet::kNeon}) {
+    if (std::strcmp(name, instructionSetName(set)) == 0) {
+      *out = set;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool parse(int argc, char** argv, Options* out) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--particles" && has_value) {
+      out->particles = std::strtoul(argv[++i], nullptr, 10);
+    } else if (arg == "--steps" && has_value) {
+      out->steps = std::atoi(argv[++i]);
+    } else if (arg == "--swept") {
+      out->swept = true;
+    } else if (arg == "--isa" && has_value) {
+      if (!parseIsa(argv[++i], &out->isa)) return false;
+    } else if (out->field == nullptr && arg[0] != '-') {
+      out->field = argv[i];
+    } else {
+      return false;
+    }
+  }
+  return out->field != nullptr && out->particles > 0 && out->steps > 0;
+}
+
+struct Swarm {
+  std::vector<float> px, py, pz, vx, vy, vz;
+  std::vector<std::int32_t> body;
+  ParticleSpan span() {
+    ParticleSpan s;
+    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
+    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
+    s.count = px.size();
+    s.out_body = body.data();
+    return s;
+  }
+};
+
+Swarm spawn(const View& view, std::size_t count) {
+  const GridInfo& g = view.grid();
+  const float h = g.voxel_size, speed = 1.5f * h / kDt;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f), signed_unit(-1.0f, 1.0f);
+  Swarm s;
+  while (s.px.size() < count) {
+    const Vec3f p{g.origin.x + unit(rng) * float(g.dims[0]) * h, g.origin.y + unit(rng) * float(g.dims[1]) * h,
+                  g.origin.z + unit(rng) * float(g.dims[2]) * h};
+    const Sample at = view.sample(p);
+    if (at.status != SampleStatus::kInBand || at.distance < 0.0f || at.distance > 2.0f * h) continue;
+    s.px.push_back(p.x), s.py.push_back(p.y), s.pz.push_back(p.z);
+    s.vx.push_back(signed_unit(rng) * speed), s.vy.push_back(signed_unit(rng) * speed);
+    s.vz.push_back(signed_unit(rng) * speed);
+  }
+  s.body.assign(count, -1);
+  return s;
+}
+
+Material materialFor(float h, bool swept) {
+  Material m;
+  m.restitution = 0.5f;
+  m.collision_distance = 0.1f * h;
+  m.drag = 2.0f, m.contact_distance = h;
+  m.flow_in = 12.0f * h, m.flow_out = 3.0f * h, m.flow_distance = 2.0f * h;
+  m.swept = swept;
+  return m;
+}
+
+// FNV-1a over raw bytes: any changed bit changes the hash.
+struct Hash {
+  std::uint64_t value = 1469598103934665603ull;
+  template <typename T> void add(const std::vector<T>& v) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(v.data());
+    for (std::size_t i = 0; i < v.size() * sizeof(T); ++i)
+      value = (value ^ bytes[i]) * 1099511628211ull;
+  }
+};
+
+double threadSeconds() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  if (!parse(argc, argv, &options)) {
+    std::fprintf(stderr,
+                 "usage: swarm_hash FIELD.dng [--particles N] [--steps N] [--swept] [--isa scalar|sse4.1|avx2|neon]\n");
+    return 1;
+  }
+  Diagnostic diag;
+  if (setInstructionSet(options.isa, &diag) != Status::kOk) {
+    std::fprintf(stderr, "swarm_hash: %s\n", diag.message);
+    return 1;
+  }
+  File file;
+  if (File::open(options.field, &file, &diag) != Status::kOk) {
+    std::fprintf(stderr, "swarm_hash: %s\n", diag.message);
+    return 1;
+  }
+  const View& view = file.view();
+  const float h = view.grid().voxel_size;
+  Body body;
+  if (Body::create(&view, materialFor(h, options.swept), &body, &diag) != Status::kOk) {
+    std::fprintf(stderr, "swarm_hash: %s\n", diag.message);
+    return 1;
+  }
+  Swarm swarm = spawn(view, options.particles);
+  Hash hash;
+  double seconds = 0.0;
+  for (int step = 0; step < options.steps; ++step) {
+    for (float& v : swarm.vz)
+      v -= 0.02f * h / kDt;
+    const double start = threadSeconds();
+    if (stepParticles(swarm.span(), kDt, &body, 1, &diag) != Status::kOk) {
+      std::fprintf(stderr, "swarm_hash: step %d: %s\n", step, diag.message);
+      return 2;
+    }
+    seconds += threadSeconds() - start;
+    for (const auto* v : {&swarm.px, &swarm.py, &swarm.pz, &swarm.vx, &swarm.vy, &swarm.vz})
+      hash.add(*v);
+    hash.add(swarm.body);
+  }
+  std::printf("%016llx %.1f ns per particle-step (%s)\n", static_cast<unsigned long long>(hash.value),
+              1e9 * seconds / (double(options.steps) * double(options.particles)),
+              instructionSetName(activeInstructionSet()));
+  return 0;
+}
