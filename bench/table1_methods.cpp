@@ -34,10 +34,15 @@ int packetWidth(Method m) {
   }
 }
 
+// The field a dngrid case steps through.
+const File& fieldOf(const MeshScene& scene, const Case& c) {
+  return c.dense ? scene.dense : c.exact ? scene.exact : scene.bricked;
+}
+
 } // namespace
 
 std::string caseId(const Case& c) {
-  const std::string field = c.dense ? "dngrid_dense_" : "dngrid_bricked_";
+  const std::string field = c.dense ? "dngrid_dense_" : c.exact ? "dngrid_bricked_exact_" : "dngrid_bricked_";
   switch (c.method) {
   case Method::kPlain: return "plain";
   case Method::kNoBody: return "dngrid_nobody";
@@ -55,7 +60,7 @@ std::string caseId(const Case& c) {
 }
 
 std::string caseLabel(const Case& c) {
-  const std::string field = c.dense ? "dngrid dense, " : "dngrid bricked, ";
+  const std::string field = c.dense ? "dngrid dense, " : c.exact ? "dngrid bricked exact, " : "dngrid bricked, ";
   switch (c.method) {
   case Method::kPlain: return "no collision (plain loop)";
   case Method::kNoBody: return "dngrid stepParticles, no body";
@@ -80,7 +85,7 @@ Stepper stepperFor(const MeshScene& scene, const Case& c) {
   case Method::kImpactDragFlow:
   case Method::kImpactDragFlowSwept: {
     Body body;
-    const View* field = c.dense ? &scene.dense.view() : &scene.bricked.view();
+    const View* field = &fieldOf(scene, c).view();
     if (Body::create(field, materialFor(c, scene.voxel), &body) != Status::kOk) return nullptr;
     return [body](Swarm* s) { stepParticles(s->span(), kDt, &body, 1); };
   }
@@ -102,7 +107,7 @@ Stepper stepperFor(const MeshScene& scene, const Case& c) {
 }
 
 std::size_t caseBytes(const MeshScene& scene, const Case& c) {
-  if (c.usesField()) return (c.dense ? scene.dense : scene.bricked).view().sizeBytes();
+  if (c.usesField()) return fieldOf(scene, c).view().sizeBytes();
   switch (c.method) {
   case Method::kEmbree1:
   case Method::kEmbree4:

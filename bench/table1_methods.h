@@ -29,10 +29,11 @@ enum class Method {
   kLevelSetTrilinear, ///< NanoVDB, trilinear value and gradient
 };
 
-/// A method, and for dngrid the field's encoding.
+/// A method, and for dngrid the field's encoding and normal mode.
 struct Case {
   Method method = Method::kPlain;
   bool dense = false; ///< dngrid only: the dense field instead of the bricked one
+  bool exact = false; ///< dngrid only: a bricked field baked in exact mode instead of the default normal-blur
 
   bool usesField() const {
     return method == Method::kImpact || method == Method::kImpactDragFlow || method == Method::kImpactDragFlowSwept;

@@ -17,16 +17,18 @@ constexpr std::uint32_t kSpawnSeed = 1;
 
 // Bakes `path` in-process with the baker's public API and maps the result. The temporary file is
 // removed at once: the mapping stays valid.
-bool bakeField(const std::string& path, format::Encoding encoding, File* out, baker::BakeReport* report,
-               std::string* error) {
+bool bakeField(const std::string& path, format::Encoding encoding, baker::NormalMode mode, File* out,
+               baker::BakeReport* report, std::string* error) {
   baker::BakeOptions options;
   options.resolution = kResolution;
   options.encoding = encoding;
+  options.mode = mode;
   // The step never reads the LIFT section (accurate queries do): a game that only steps particles bakes
   // with --no-lift, and the memory column is what the step needs.
   options.lift = false;
   const std::string dng = (std::filesystem::temp_directory_path() /
-                           ("dng_table1_" + std::to_string(::getpid()) + "_" + std::to_string(int(encoding)) + ".dng"))
+                           ("dng_table1_" + std::to_string(::getpid()) + "_" + std::to_string(int(encoding)) + "_" +
+                            std::to_string(int(mode)) + ".dng"))
                               .string();
   const baker::BakeStatus status = baker::bake(path, {dng, {}}, options, nullptr, nullptr, report);
   if (!status.ok()) {
@@ -53,7 +55,8 @@ bool buildScene(const std::string& path, MeshScene* scene, std::string* error) {
   scene->vertices = std::move(soup.vertices);
   scene->triangles = std::move(soup.triangles);
   baker::BakeReport report;
-  if (!bakeField(path, format::Encoding::kBricked, &scene->bricked, &report, error)) return false;
+  if (!bakeField(path, format::Encoding::kBricked, baker::BakeOptions{}.mode, &scene->bricked, &report, error))
+    return false;
   scene->outward = report.mesh.signed_volume < 0.0 ? -1.0f : 1.0f;
   const GridInfo& grid = scene->bricked.view().grid();
   scene->voxel = grid.voxel_size;
@@ -75,7 +78,7 @@ const Swarm& MeshScene::spawn(std::size_t count) const {
   return it->second;
 }
 
-const MeshScene* meshScene(const std::string& path, bool with_dense, std::string* out_error) {
+const MeshScene* meshScene(const std::string& path, ExtraFields extra, std::string* out_error) {
   static std::map<std::string, std::unique_ptr<MeshScene>> scenes;
   auto it = scenes.find(path);
   if (it == scenes.end()) {
@@ -84,10 +87,13 @@ const MeshScene* meshScene(const std::string& path, bool with_dense, std::string
     it = scenes.emplace(path, std::move(scene)).first;
   }
   MeshScene& scene = *it->second;
-  if (with_dense && !scene.dense.valid()) {
-    baker::BakeReport report;
-    if (!bakeField(path, format::Encoding::kDense, &scene.dense, &report, out_error)) return nullptr;
-  }
+  baker::BakeReport report;
+  if (extra.dense && !scene.dense.valid() &&
+      !bakeField(path, format::Encoding::kDense, baker::BakeOptions{}.mode, &scene.dense, &report, out_error))
+    return nullptr;
+  if (extra.exact && !scene.exact.valid() &&
+      !bakeField(path, format::Encoding::kBricked, baker::NormalMode::kExact, &scene.exact, &report, out_error))
+    return nullptr;
   return &scene;
 }
 

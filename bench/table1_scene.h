@@ -27,7 +27,8 @@ struct MeshScene {
   float voxel = 0.0f;   ///< the baked fields' voxel edge, mesh units
   reference::MeshReference judge;
   File bricked;
-  File dense; ///< empty until withDense()
+  File dense; ///< empty until a case asks for it (meshScene)
+  File exact; ///< bricked, baked in exact mode; empty until a case asks for it
   EmbreeCaster caster;
   nanovdb::GridHandle<nanovdb::HostBuffer> levelset;
 
@@ -38,10 +39,16 @@ private:
   mutable std::map<std::size_t, Swarm> spawns_;
 };
 
+/// The fields a case may ask for beyond the default bricked one.
+struct ExtraFields {
+  bool dense = false; ///< dense, default mode
+  bool exact = false; ///< bricked, exact mode
+};
+
 /// The scene of the mesh at `path` (any format the baker reads), built on first use and kept for the
-/// process. With `with_dense` the dense field is baked too (once). Null, with *out_error set, when
-/// the mesh cannot be loaded or baked. Not thread-safe: call from the benchmark thread.
-const MeshScene* meshScene(const std::string& path, bool with_dense, std::string* out_error);
+/// process, with the `extra` fields baked too (each once). Null, with *out_error set, when the mesh
+/// cannot be loaded or baked. Not thread-safe: call from the benchmark thread.
+const MeshScene* meshScene(const std::string& path, ExtraFields extra, std::string* out_error);
 
 } // namespace table1
 } // namespace dng
