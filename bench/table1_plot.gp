@@ -16,5 +16,6 @@ plot data using 2:6 with linespoints lw 2 pt 7 title "Embree, best packet varian
      data using 2:7 with linespoints lw 2 pt 5 title "NanoVDB nearest + central differences", \
      data using 2:8 with linespoints lw 2 pt 4 title "NanoVDB trilinear + gradient", \
      data using 2:5 with linespoints lw 2 pt 9 title "dngrid bricked, impact+drag+flow", \
+     data using 2:9 with linespoints lw 2 pt 13 title "dngrid bricked exact, impact+drag+flow", \
      data using 2:4 with linespoints lw 2 pt 8 title "dngrid bricked, impact", \
      data using 2:3 with linespoints lw 1 dt 2 pt 1 title "no collision"
