@@ -421,5 +421,47 @@ TEST(InstructionSet, StepGivesTheScalarResultsWhenMovesCrossCellsOfAnIndex) {
   expectSameSteps(bodies, swarm, &index);
 }
 
+// A chunk lists its moves' bodies in the same cell walk as its responses' (near_lanes.h), for the
+// velocities before the responses; the lanes whose velocities the responses change are listed again.
+// Groups of 8 particles (a chunk) just off the faces of a large box that bounces them straight back
+// (restitution 1), towards a small body that their moves before the bounce do not reach. A chunk that
+// kept the first list would let its lanes pass through that body, where the scalar path stops them.
+TEST(InstructionSet, StepGivesTheScalarResultsWhenResponsesTurnMovesInAnIndex) {
+  const Vec3f half{5.0f, 6.0f, 4.0f};
+  const AnalyticField box = analytic::boxField({0, 0, 0}, half);
+  Field box_field(box, true);
+  Material bouncy;
+  bouncy.restitution = 1.0f;
+  std::vector<Body> bodies{makeBody(box_field.view, bouncy)}; // at the origin, its grid [-20, 20]^3
+  const float identity[4] = {1, 0, 0, 0};
+  constexpr int kGroups = 24;
+  constexpr float kMove = 8.0f;
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  Swarm swarm = randomSwarm(kGroups * 8, 30);
+  for (int group = 0; group < kGroups; ++group) {
+    const int axis = group % 3;
+    const float sign = (group / 3) % 2 == 0 ? 1.0f : -1.0f; // the face, and the way the bounce sends them
+    Vec3f centre;
+    for (int c = 0; c < 3; ++c) // on the face, away from its edges; 0.5 off it, well within its band
+      (&centre.x)[c] = c == axis ? sign * ((&half.x)[c] + 0.5f) : ((&half.x)[c] - 1.5f) * unit(rng);
+    Vec3f target_at = centre;
+    (&target_at.x)[axis] += sign * 0.5f * kMove; // its box reaches 1 either way, its face 0.25 at most
+    Body target = makeBody(box_field.view, Material{});
+    ASSERT_EQ(target.setTransform(target_at, identity, 0.05f), Status::kOk);
+    bodies.push_back(target);
+    for (int lane = 0; lane < 8; ++lane) { // within the small body's cross-section
+      Particle& p = swarm.particles[std::size_t(group * 8 + lane)];
+      for (int c = 0; c < 3; ++c) {
+        p.position[c] = (&centre.x)[c] + (c == axis ? 0.02f : 0.1f) * unit(rng);
+        p.velocity[c] = c == axis ? -sign * kMove / kDt : 0.0f;
+      }
+    }
+  }
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  expectSameSteps(bodies, swarm, &index);
+}
+
 } // namespace
 } // namespace dng

@@ -8,11 +8,15 @@
 // nothing for it. Every body the scalar path visits for a lane is listed: the grid enters a body in
 // every cell its grown box touches, the lanes read every cell their box touches (cellAxis does
 // BodyIndex::Impl::cellOf's operations in its order, so both find the same cells), and a listed body
-// is kept when its box passes NearBodies::forEach's test for any lane. A lane whose position or move
-// is not a number (the index would list every body), whose move crosses many cells, or whose bodies
-// do not fit a NearList leaves the chunk for the scalar path; so does one that meets a body no other
-// lane of the chunk meets (keepShared: what the lanes would do for that body serves one particle, as
-// when particles in random order are each near a different body).
+// is kept when its box passes NearBodies::forEach's test for any lane. One walk over the cells of the
+// moves' boxes lists both: a move's box holds its position, and a body's grown box holds its box (its
+// corners minus and plus a travel >= 0, or not a number), so a body whose box holds a lane's position
+// has a grown box that meets the lane's move box, in a cell that box touches. A lane whose position or
+// move is not a number (the index would list every body), whose move crosses many cells, or whose
+// bodies do not fit a NearList leaves the chunk for the scalar path. A lane alone in its chunk with a
+// body stays: the lanes' work for the body serves one particle, but that costs less than the scalar
+// path's own broadphase and step (bench/many_bodies_bench, particles in random order each near a
+// different building).
 #pragma once
 
 #include "lanes.h"
@@ -55,42 +59,57 @@ DNG_LANE_INLINE M meets(const Box& box, V3 lo, V3 hi) {
            (lo.y > splat(box.hi.y)) | (lo.z > splat(box.hi.z)));
 }
 
-// Adds body b, which the lanes `lanes` meet, to the increasing list, once; false when the list is full
-// without it.
-DNG_LANE_INLINE bool insert(std::int32_t b, std::uint32_t lanes, NearList* io) {
+// Adds body b to the increasing list, once; false when the list is full without it.
+DNG_LANE_INLINE bool insert(std::int32_t b, NearList* io) {
   std::size_t k = io->count;
   while (k > 0 && io->index[k - 1] > b)
     --k;
   if (k > 0 && io->index[k - 1] == b) return true;
   if (io->count == NearList::kCapacity) return false;
   for (std::size_t j = io->count; j > k; --j)
-    io->index[j] = io->index[j - 1], io->lanes[j] = io->lanes[j - 1];
-  io->index[k] = b, io->lanes[k] = lanes;
+    io->index[j] = io->index[j - 1];
+  io->index[k] = b;
   ++io->count;
   return true;
 }
 
-// Lists the bodies bodies[0, count) whose box `which` meets a live lane's box; the lanes of a body that
-// does not fit leave *io_live.
-DNG_LANE_INLINE void listBodies(const IndexGrid& g, const std::uint32_t* bodies, std::size_t count, BodyBox which,
-                                V3 lo, V3 hi, NearList* out, M* io_live) {
+/// What a chunk asks the index: the bodies whose grown boxes meet the lanes' move boxes [lo, hi] into
+/// *moves, and with `responses`, those of them whose boxes hold the lanes' positions `at` into
+/// *responses (a box that holds `at` grown by the travel meets a move box that holds `at`: the same
+/// bodies, read from the same cells).
+struct NearQuery {
+  V3 lo, hi, at;
+  NearList* moves;
+  NearList* responses; // null: the moves only
+};
+
+// Lists the bodies bodies[0, count) that meet a live lane's boxes; the lanes of a body that does not
+// fit leave *io_live.
+DNG_LANE_INLINE void listBodies(const IndexGrid& g, const std::uint32_t* bodies, std::size_t count, const NearQuery& q,
+                                M* io_live) {
   for (std::size_t k = 0; k < count; ++k) {
     const std::uint32_t b = bodies[k];
-    const M m = *io_live & meets(g.boxes[b].box[int(which)], lo, hi);
-    if (any(m) && !insert(std::int32_t(b), bits(m), out)) *io_live = andNot(*io_live, m);
+    const BodyBoxes& boxes = g.boxes[b];
+    const M moves = *io_live & meets(boxes.box[int(BodyBox::kGrown)], q.lo, q.hi);
+    if (!any(moves)) continue; // then no box holds a lane's position either
+    if (!insert(std::int32_t(b), q.moves)) {
+      *io_live = andNot(*io_live, moves);
+      continue;
+    }
+    if (q.responses == nullptr) continue;
+    const M held = *io_live & meets(boxes.box[int(BodyBox::kBounds)], q.at, q.at);
+    if (any(held) && !insert(std::int32_t(b), q.responses)) *io_live = andNot(*io_live, held);
   }
 }
 
-DNG_LANE_INLINE void listCell(const IndexGrid& g, std::uint32_t x, std::uint32_t y, std::uint32_t z, BodyBox which,
-                              V3 lo, V3 hi, NearList* out, M* io_live) {
-  const std::size_t c = (std::size_t(z) * g.dims[1] + y) * g.dims[0] + x;
-  listBodies(g, g.cell_bodies + g.cell_start[c], g.cell_start[c + 1] - g.cell_start[c], which, lo, hi, out, io_live);
+DNG_LANE_INLINE void listCell(const IndexGrid& g, std::size_t c, const NearQuery& q, M* io_live) {
+  listBodies(g, g.cell_bodies + g.cell_start[c], g.cell_start[c + 1] - g.cell_start[c], q, io_live);
 }
 
 // Lists the bodies of the cells lane `lane`'s box touches (the cells c0 to c1 per axis); false when
 // they are too many.
 DNG_LANE_INLINE bool listLaneCells(const IndexGrid& g, const LaneCells& c0, const LaneCells& c1, int lane,
-                                   BodyBox which, V3 lo, V3 hi, NearList* out, M* io_live) {
+                                   const NearQuery& q, M* io_live) {
   std::uint32_t from[3], to[3];
   std::uint32_t cells = 1;
   for (int a = 0; a < 3; ++a) {
@@ -101,17 +120,18 @@ DNG_LANE_INLINE bool listLaneCells(const IndexGrid& g, const LaneCells& c0, cons
   for (std::uint32_t z = from[2]; z <= to[2]; ++z)
     for (std::uint32_t y = from[1]; y <= to[1]; ++y)
       for (std::uint32_t x = from[0]; x <= to[0]; ++x)
-        listCell(g, x, y, z, which, lo, hi, out, io_live);
+        listCell(g, (std::size_t(z) * g.dims[1] + y) * g.dims[0] + x, q, io_live);
   return true;
 }
 
-/// The bodies whose box `which` meets a live lane's box [lo, hi], in increasing index, into *out.
-/// Returns the live lanes every such body is listed for.
-DNG_LANE_INLINE M listNear(const IndexGrid& g, BodyBox which, V3 lo, V3 hi, M live, NearList* out) {
-  out->count = 0;
+/// The bodies `q` asks for, added to its lists in increasing index. Returns the live lanes every such
+/// body is listed for.
+DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
+  const V3 lo = q.lo, hi = q.hi;
+  // A lane whose position is not a number has no number in its move box either.
   live =
       andNot(live, (lo.x != lo.x) | (lo.y != lo.y) | (lo.z != lo.z) | (hi.x != hi.x) | (hi.y != hi.y) | (hi.z != hi.z));
-  listBodies(g, g.everywhere, g.everywhere_count, which, lo, hi, out, &live);
+  listBodies(g, g.everywhere, g.everywhere_count, q, &live);
   // Boxes outside the scene's meet only the bodies listed everywhere (BodyIndex::Impl::listsFor).
   const M in_scene = (hi.x >= splat(g.scene_lo.x)) & (hi.y >= splat(g.scene_lo.y)) & (hi.z >= splat(g.scene_lo.z)) &
                      (lo.x <= splat(g.scene_hi.x)) & (lo.y <= splat(g.scene_hi.y)) & (lo.z <= splat(g.scene_hi.z));
@@ -129,40 +149,13 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, BodyBox which, V3 lo, V3 hi, M li
     const int lane = __builtin_ctz(pending);
     pending &= pending - 1;
     if (!((single >> lane) & 1u)) {
-      if (!listLaneCells(g, c0, c1, lane, which, lo, hi, out, &live)) live = andNot(live, laneMask(1u << lane));
+      if (!listLaneCells(g, c0, c1, lane, q, &live)) live = andNot(live, laneMask(1u << lane));
       continue;
     }
-    const std::uint32_t c = std::uint32_t(cells[lane]);
-    listBodies(g, g.cell_bodies + g.cell_start[c], g.cell_start[c + 1] - g.cell_start[c], which, lo, hi, out, &live);
+    listCell(g, std::size_t(std::uint32_t(cells[lane])), q, &live);
     pending &= ~(single & bits(cell == splatI(cells[lane])));
   }
   return live;
-}
-
-/// A listed body costs the lanes its preparation and samples and walks as wide as the chunk, once for
-/// all the lanes that meet it: a body fewer lanes meet than this costs more in lanes than on the scalar
-/// path (measured with bench/many_bodies_bench: particles in random order meet a building alone, in
-/// lattice order with the lanes of their chunk; 2, 3 and 4 gave the same lattice times, 2 the best city).
-constexpr int kMinSharedLanes = 2;
-
-/// Sends to the scalar path the live lanes that meet a listed body fewer than kMinSharedLanes live
-/// lanes meet, and drops the bodies no live lane meets any more. Returns the lanes left live: the list
-/// still holds every body it held for them, so the choice is only about speed.
-DNG_LANE_INLINE M keepShared(M live, NearList* io) {
-  const std::uint32_t was = bits(live);
-  std::uint32_t keep = was;
-  for (std::size_t k = 0; k < io->count; ++k) {
-    const std::uint32_t lanes = io->lanes[k] & was;
-    if (__builtin_popcount(lanes) < kMinSharedLanes) keep &= ~lanes;
-  }
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < io->count; ++k) {
-    if ((io->lanes[k] & keep) == 0) continue;
-    io->index[kept] = io->index[k], io->lanes[kept] = io->lanes[k] & keep;
-    ++kept;
-  }
-  io->count = kept;
-  return live & laneMask(keep);
 }
 
 /// Gives each listed body its numbers, the index's (kept there since its rebuild), its material as it

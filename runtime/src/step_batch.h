@@ -36,8 +36,6 @@ struct NearList {
   /// A move's list: each body's place in the chunk's response list, -1 when it is not there (the
   /// walk then takes a new sample at the start instead of the response's).
   std::int32_t kept[kCapacity];
-  /// The broadphase's: the lanes whose boxes meet the body's box, one bit per lane.
-  std::uint32_t lanes[kCapacity];
   StepBody storage[kCapacity];
 };
 static_assert(kMaxBatchBodies <= NearList::kCapacity, "a call without a broadphase lists every body");

@@ -349,15 +349,42 @@ DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch,
   }
 }
 
-// A chunk's bodies for one phase: every body, or those the broadphase has near the lanes' boxes
-// [lo, hi] (BodyBox::kBounds: the points, for the responses; kGrown: the moves' boxes, for the walks).
-// Lanes whose bodies do not all fit, or that alone meet a body (keepShared), leave *io_live.
-DNG_LANE_INLINE const NearList& chunkBodies(const StepBatch& batch, BodyBox which, V3 lo, V3 hi,
-                                            const NearList* responses, NearList* out, M* io_live) {
+// A chunk's bodies, every body or those the broadphase has near its lanes (near_lanes.h): the responses'
+// (the positions, against the bodies' boxes) and the moves' (the moves' boxes, against the grown boxes).
+struct ChunkBodies {
+  NearList responses, moves;
+  V3 lo, hi; // the move boxes `moves` was listed for, from the velocities before the responses
+};
+
+DNG_LANE_INLINE void moveBox(V3 a, V3 e, V3* lo, V3* hi) {
+  *lo = V3{minOf(a.x, e.x), minOf(a.y, e.y), minOf(a.z, e.z)};
+  *hi = V3{maxOf(a.x, e.x), maxOf(a.y, e.y), maxOf(a.z, e.z)};
+}
+
+// The responses' bodies, and in the same cell walk the moves' for the velocities as they are (most
+// responses change none). Lanes whose bodies do not all fit leave *io_live.
+DNG_LANE_INLINE const NearList& chunkResponses(const StepBatch& batch, const LaneParticles& p, ChunkBodies* io,
+                                               M* io_live) {
   if (batch.index == nullptr) return *batch.all;
-  *io_live = keepShared(listNear(*batch.index, which, lo, hi, *io_live, out), out);
-  prepareListed(batch, responses, out);
-  return *out;
+  moveBox(p.position, p.position + p.velocity * splat(batch.dt), &io->lo, &io->hi);
+  io->responses.count = io->moves.count = 0;
+  *io_live = listNear(*batch.index, {io->lo, io->hi, p.position, &io->moves, &io->responses}, *io_live);
+  prepareListed(batch, nullptr, &io->responses);
+  return io->responses;
+}
+
+// The moves' bodies, start -> end: listed again for the lanes whose move boxes the responses changed
+// (the bodies their old boxes met stay listed; the lanes' own tests pass them by).
+DNG_LANE_INLINE const NearList& chunkMoves(const StepBatch& batch, V3 start, V3 end, ChunkBodies* io, M* io_live) {
+  if (batch.index == nullptr) return *batch.all;
+  V3 lo, hi;
+  moveBox(start, end, &lo, &hi);
+  const M moved = *io_live & ((lo.x != io->lo.x) | (lo.y != io->lo.y) | (lo.z != io->lo.z) | (hi.x != io->hi.x) |
+                              (hi.y != io->hi.y) | (hi.z != io->hi.z));
+  if (any(moved))
+    *io_live = andNot(*io_live, moved) | listNear(*batch.index, {lo, hi, start, &io->moves, nullptr}, moved);
+  prepareListed(batch, &io->responses, &io->moves);
+  return io->moves;
 }
 
 /// stepParticles over the whole span: lanes for what one ball settles, the scalar path for the rest
@@ -366,20 +393,18 @@ inline void stepLanes(const StepBatch& batch) {
   const ParticleSpan& s = *batch.particles;
   const F dt = splat(batch.dt);
   const unsigned every_lane = (1u << kWidth) - 1;
-  NearList responses, moves; // the broadphase's lists, refilled per chunk
+  ChunkBodies near; // the broadphase's lists, refilled per chunk
   std::size_t n = 0;
   for (; n + kWidth <= s.count; n += kWidth) {
     LaneParticles p{loadLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n),
                     loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
     M live = allTrue();
-    const NearList& respond = chunkBodies(batch, BodyBox::kBounds, p.position, p.position, nullptr, &responses, &live);
+    const NearList& respond = chunkResponses(batch, p, &near, &live);
     I touch = splatI(-1);
     KeptLanes kept;
     respondLanes(batch, respond, live, &p, &touch, &kept);
     const V3 end = p.position + p.velocity * dt;
-    const V3 lo{minOf(p.position.x, end.x), minOf(p.position.y, end.y), minOf(p.position.z, end.z)};
-    const V3 hi{maxOf(p.position.x, end.x), maxOf(p.position.y, end.y), maxOf(p.position.z, end.z)};
-    const NearList& walk = chunkBodies(batch, BodyBox::kGrown, lo, hi, &respond, &moves, &live);
+    const NearList& walk = chunkMoves(batch, p.position, end, &near, &live);
     const unsigned done = bits(moveLanes(walk, live, p, end, kept));
     storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, end, done);
     storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, done);
