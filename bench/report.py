@@ -308,14 +308,16 @@ def threads_section(path):
         context = json.load(f)["context"]
     print("\n## Threads (bench/threads_bench.cpp)\n")
     print("The city's step (above) through one shared `BodyIndex`: 1 thread on all 100,000 raindrops against 2 "
-          "threads on the two halves, each iteration starting and joining `std::thread`s (%d CPUs; repetitions "
-          "interleaved; run of %s). "
+          "threads on the two halves. The threads are a minimal job system's workers, started once and woken "
+          "for every frame, the calling thread taking the first half itself; each iteration steps 8 consecutive "
+          "frames from the same start, so each half stays in its worker's cache as in a game (%d CPUs; "
+          "repetitions interleaved; run of %s). "
           "On a machine whose cores other work shares, the second thread gets what is left of the second core.\n"
           % (context.get("num_cpus", 0), context.get("date", "?")))
     _, cpu = medians(path, "cpu_ms_busiest_thread", scale=1.0)  # already milliseconds
     cpu_one, cpu_two = cpu["BM_Threads/1/real_time"][0], cpu["BM_Threads/2/real_time"][0]
     print("The last columns time the busiest thread's CPU alone, which time spent descheduled does not count.\n")
-    print("| threads | ns/particle | speed-up | busiest thread's CPU ms per step | speed-up by CPU time |")
+    print("| threads | ns/particle-step | speed-up | busiest thread's CPU ms per step | speed-up by CPU time |")
     print("|---|---:|---:|---:|---:|")
     print("| 1 | %.1f | 1.00 | %.2f | 1.00 |" % (one, cpu_one))
     print("| 2 | %.1f | %.2f | %.2f | %.2f |" % (two, one / two, cpu_two, cpu_one / cpu_two))
