@@ -308,8 +308,8 @@ def threads_section(path):
         context = json.load(f)["context"]
     print("\n## Threads (bench/threads_bench.cpp)\n")
     print("The city's step (above) through one shared `BodyIndex`: 1 thread on all 100,000 raindrops against 2 "
-          "threads on the two halves. The threads are a minimal job system's workers, started once and woken "
-          "for every frame, the calling thread taking the first half itself; each iteration steps 8 consecutive "
+          "threads on the two halves. The threads are a minimal job system's workers, started once and spinning "
+          "between frames, the calling thread taking the first half itself; each iteration steps 8 consecutive "
           "frames from the same start, so each half stays in its worker's cache as in a game (%d CPUs; "
           "repetitions interleaved; run of %s). "
           "On a machine whose cores other work shares, the second thread gets what is left of the second core.\n"

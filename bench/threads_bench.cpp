@@ -1,6 +1,6 @@
 // Threads: the city's 100,000 raindrops (city_scene.h) stepped through one shared BodyIndex, by 1
 // thread on the whole span and by 2 threads on its two halves, in one run. The threads are a minimal
-// job system's workers: started once, woken for every frame, the calling thread taking the first
+// job system's workers: started once, spinning between frames, the calling thread taking the first
 // half itself (docs/INTEGRATION.md, "Threads"). Goal: 2 threads at least 1.8x the speed of 1 (the
 // machine's cores may be shared: read the ratio with that in mind).
 #include "city_scene.h"
@@ -9,11 +9,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include <condition_variable>
+#include <atomic>
 #include <cstdint>
 #include <ctime>
 #include <functional>
-#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -41,8 +40,10 @@ void stepRange(bench::Raindrops* rain, std::size_t begin, std::size_t end, const
   *io_cpu += threadCpuSeconds() - start;
 }
 
-// A job system's workers as engines keep them: started once, woken for each frame's jobs, and the
-// calling thread takes job 0 itself. run() returns when every job of the frame is done.
+// A job system's workers as engines keep them: started once, spinning between frames (a worker
+// put to sleep takes a scheduler wake-up, hundreds of microseconds on a virtual machine's idle core,
+// to start its job), and the calling thread takes job 0 itself. run() returns when every job of the
+// frame is done.
 class Workers {
 public:
   explicit Workers(std::size_t jobs) : jobs_(jobs) {
@@ -50,52 +51,40 @@ public:
       threads_.emplace_back([this, j] { serve(j); });
   }
   ~Workers() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_all();
+    stop_.store(true, std::memory_order_release);
     for (std::thread& t : threads_)
       t.join();
   }
   void run(const std::function<void(std::size_t)>& job) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      job_ = &job;
-      pending_ = jobs_ - 1;
-      ++frame_;
-    }
-    wake_.notify_all();
+    job_ = &job;
+    pending_.store(jobs_ - 1, std::memory_order_relaxed);
+    frame_.fetch_add(1, std::memory_order_release); // publishes job_ and pending_
     job(0);
-    std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [this] { return pending_ == 0; });
+    while (pending_.load(std::memory_order_acquire) != 0)
+      std::this_thread::yield();
   }
 
 private:
   void serve(std::size_t j) {
     std::uint64_t seen = 0;
     for (;;) {
-      const std::function<void(std::size_t)>* job = nullptr;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [&] { return stop_ || frame_ != seen; });
-        if (stop_) return;
-        seen = frame_;
-        job = job_;
+      std::uint64_t frame = frame_.load(std::memory_order_acquire);
+      while (frame == seen) {
+        if (stop_.load(std::memory_order_acquire)) return;
+        std::this_thread::yield();
+        frame = frame_.load(std::memory_order_acquire);
       }
-      (*job)(j);
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (--pending_ == 0) done_.notify_one();
+      seen = frame;
+      (*job_)(j);
+      pending_.fetch_sub(1, std::memory_order_release);
     }
   }
   std::size_t jobs_;
   std::vector<std::thread> threads_;
-  std::mutex mutex_;
-  std::condition_variable wake_, done_;
   const std::function<void(std::size_t)>* job_ = nullptr;
-  std::size_t pending_ = 0;
-  std::uint64_t frame_ = 0;
-  bool stop_ = false;
+  std::atomic<std::size_t> pending_{0};
+  std::atomic<std::uint64_t> frame_{0};
+  std::atomic<bool> stop_{false};
 };
 
 // Consecutive frames per iteration, each range stepped by the same worker every frame, as in a game:
