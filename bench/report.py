@@ -14,6 +14,13 @@ def medians(path, counter, scale=1e9):
     return data["context"], out
 
 
+def spreads(path, counter):
+    """The coefficient of variation of `counter` across repetitions, per benchmark."""
+    with open(path) as f:
+        data = json.load(f)
+    return {b["run_name"]: b[counter] for b in data["benchmarks"] if b.get("aggregate_name") == "cv"}
+
+
 def step_section(path):
     context, m = medians(path, "per_particle")
     base = m["BM_Step/2/0/0/real_time"][0]
@@ -323,6 +330,10 @@ def threads_section(path):
     print("| 2 | %.1f | %.2f | %.2f | %.2f |" % (two, one / two, cpu_two, cpu_one / cpu_two))
     print("\n**Goal (threads): 2 threads at least 1.8x as fast as 1. Measured: %.2fx, %s.**"
           % (one / two, "reached" if one / two >= 1.8 else "not reached"))
+    cv = spreads(path, "real_time")
+    print("\nThe repetitions' wall times varied by %.0f%% (1 thread) and %.0f%% (2 threads), coefficients of "
+          "variation; on this shared machine the ratio moves by about as much from run to run."
+          % (100 * cv["BM_Threads/1/real_time"], 100 * cv["BM_Threads/2/real_time"]))
 
 
 def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=None, threads_path=None):
