@@ -344,6 +344,25 @@ static void test_scene_broadphase(const dng_field* box) {
   dng_scene_destroy(fast);
 }
 
+/* The optional sections' bits, on the golden files that have them and on the plain box. */
+static void test_flags(const dng_field* box) {
+  static const struct {
+    const char* path;
+    uint32_t flags;
+  } kFiles[] = {{DNG_GOLDEN_DIR "/bricked_box_lifted.dng", DNG_FIELD_HAS_LIFT},
+                {DNG_GOLDEN_DIR "/bricked_box_graded.dng", DNG_FIELD_HAS_LIFT | DNG_FIELD_HAS_GRADIENT}};
+  char message[256];
+  size_t i;
+  CHECK(dng_field_flags(box) == 0);
+  CHECK(dng_field_flags(NULL) == 0);
+  for (i = 0; i < sizeof kFiles / sizeof kFiles[0]; ++i) {
+    dng_field* field = NULL;
+    CHECK(dng_field_open_file(kFiles[i].path, &field, message, sizeof message) == DNG_OK);
+    CHECK(dng_field_flags(field) == kFiles[i].flags);
+    dng_field_close(field);
+  }
+}
+
 int main(void) {
   char message[256];
   dng_field* box = NULL;
@@ -355,6 +374,7 @@ int main(void) {
   }
   test_sampling(box);
   test_info(box);
+  test_flags(box);
   test_batch(box);
   test_stepping(box);
   test_scene_queries(box);

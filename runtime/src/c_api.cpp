@@ -168,6 +168,13 @@ dng_status dng_field_get_info(const dng_field* field, dng_field_info* out_info) 
   return DNG_OK;
 }
 
+uint32_t dng_field_flags(const dng_field* field) {
+  if (field == nullptr) return 0;
+  const dng::View& view = field->view;
+  return (view.conservativePlanes() ? DNG_FIELD_CONSERVATIVE_PLANES : 0u) | (view.hasLift() ? DNG_FIELD_HAS_LIFT : 0u) |
+         (view.hasGradient() ? DNG_FIELD_HAS_GRADIENT : 0u);
+}
+
 size_t dng_field_metadata(const dng_field* field, char* out_text, size_t capacity) {
   const std::string_view text = field != nullptr ? field->view.metadata() : std::string_view();
   if (out_text != nullptr && capacity > 0) {

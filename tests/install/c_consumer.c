@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   char message[256];
   dng_field* field = NULL;
   dng_field_info info;
+  uint32_t flags;
   dng_scene* scene = NULL;
   dng_material material;
   dng_particles particles = {0};
@@ -70,8 +71,13 @@ int main(int argc, char** argv) {
          "stayed above the surface, conservative planes %u\n",
          dng_version_string(), dng_format_version_string(), info.dims[0], info.dims[1], info.dims[2], in_band, kCount,
          bounced, kCount, info.conservative_planes);
+  flags = dng_field_flags(field);
   dng_scene_destroy(scene);
   dng_field_close(field);
-  /* dngbake's files promise conservative planes (format 1.1). */
-  return in_band > 0 && bounced == kCount && info.conservative_planes == 1 ? 0 : 4;
+  /* dngbake's files promise conservative planes (format 1.1) and, by default, carry LIFT (1.2). */
+  return in_band > 0 && bounced == kCount && info.conservative_planes == 1 &&
+                 (flags & (DNG_FIELD_CONSERVATIVE_PLANES | DNG_FIELD_HAS_LIFT)) ==
+                     (DNG_FIELD_CONSERVATIVE_PLANES | DNG_FIELD_HAS_LIFT)
+             ? 0
+             : 4;
 }

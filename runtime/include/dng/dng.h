@@ -140,6 +140,18 @@ typedef struct dng_field_info {
 
 /** Fills *out_info. DNG_INVALID_ARGUMENT (nothing written) when either is NULL. Thread-safe. */
 DNG_API dng_status dng_field_get_info(const dng_field* field, dng_field_info* out_info);
+
+/* What a field carries besides its distances and normals: bits of dng_field_flags. */
+#define DNG_FIELD_CONSERVATIVE_PLANES 1u /* as dng_field_info.conservative_planes */
+#define DNG_FIELD_HAS_LIFT                                                                                             \
+  2u /* LIFT section: accurate queries read the distances from before the                                              \
+        conservative lowering (docs/FORMAT.md 5.2) */
+#define DNG_FIELD_HAS_GRADIENT                                                                                         \
+  4u /* GRAD section: accurate queries read the distance's own gradient                                                \
+        beside blurred normals (docs/FORMAT.md 5.3) */
+/** The DNG_FIELD_* bits that hold for the field; 0 when field is NULL. Bits not defined here are 0.
+ *  Thread-safe. (A function, not a dng_field_info member, so that the struct keeps its size.) */
+DNG_API uint32_t dng_field_flags(const dng_field* field);
 /** Copies the bake's metadata (UTF-8 JSON, docs/BAKING.md) into out_text, truncated to capacity - 1
  *  bytes and NUL-terminated when capacity > 0; out_text may be NULL when capacity is 0. Returns the
  *  metadata's full length in bytes without the NUL (0 when the file has none or field is NULL), so a
