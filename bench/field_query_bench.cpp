@@ -4,6 +4,7 @@
 // ReadAccessor (distance + 3 forward differences for the normal, as a level-set user would).
 //
 // Every benchmark reports per_query (seconds); bench/run.sh turns them into ratios in docs/PERFORMANCE.md.
+#include "dng/instruction_set.h"
 #include "sphere_scene.h"
 
 #include <benchmark/benchmark.h>
@@ -83,9 +84,12 @@ void reportPerQuery(benchmark::State& state, std::size_t count) {
       benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// Arguments: encoding (0 dense, 1 bricked), interpolation (0 nearest, 1 trilinear), order (0 coherent, 1 random).
+// Arguments: encoding (0 dense, 1 bricked), interpolation (0 nearest, 1 trilinear), order (0 coherent, 1 random),
+// path (0 the best SIMD kernels of this CPU, 1 the scalar reference, whose samples are bit for bit the same).
 void BM_Sample(benchmark::State& state) {
   const Data& d = data();
+  const InstructionSet before = activeInstructionSet();
+  setInstructionSet(state.range(3) == 0 ? bestInstructionSet() : InstructionSet::kScalar);
   const View& view = state.range(0) == 0 ? d.dense : d.bricked;
   const auto mode = Interpolation(state.range(1));
   const std::vector<Vec3f>& points = state.range(2) == 0 ? d.coherent : d.random;
@@ -95,11 +99,12 @@ void BM_Sample(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
+  setInstructionSet(before);
   state.SetLabel(std::string(state.range(0) ? "bricked" : "dense") + (state.range(1) ? " trilinear" : " nearest") +
-                 (state.range(2) ? " random" : " coherent"));
+                 (state.range(2) ? " random" : " coherent") + (state.range(3) ? " scalar" : " simd"));
   reportPerQuery(state, points.size());
 }
-BENCHMARK(BM_Sample)->ArgsProduct({{0, 1}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Sample)->ArgsProduct({{0, 1}, {0, 1}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 // Baseline: the voxel's float4 from a bare array, bounds-checked, no refinement.
 void BM_RawArray(benchmark::State& state) {

@@ -108,16 +108,23 @@ TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
   for (const AnalyticField* shape : {&box, &sphere}) {
     for (bool dense : {false, true}) {
       Field field(*shape, dense);
-      std::vector<Sample> reference(count), lanes(count);
-      {
-        ChosenSet scalar(InstructionSet::kScalar);
-        field.view.sampleBatch(points.data(), 16, count, reference.data());
-      }
-      for (InstructionSet set : simdSets()) {
-        ChosenSet chosen(set);
-        field.view.sampleBatch(points.data(), 16, count, lanes.data());
-        for (std::size_t n = 0; n < count; ++n)
-          ASSERT_TRUE(sameSample(lanes[n], reference[n])) << instructionSetName(set) << ", point " << n;
+      for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+        std::vector<Sample> reference(count), lanes(count);
+        {
+          ChosenSet scalar(InstructionSet::kScalar);
+          field.view.sampleBatch(points.data(), 16, count, reference.data(), mode);
+        }
+        std::size_t in_band = 0;
+        for (const Sample& s : reference)
+          in_band += s.status == SampleStatus::kInBand ? 1 : 0;
+        ASSERT_GT(in_band, count / 20) << "the points must meet the band, or the comparison says little";
+        for (InstructionSet set : simdSets()) {
+          ChosenSet chosen(set);
+          field.view.sampleBatch(points.data(), 16, count, lanes.data(), mode);
+          for (std::size_t n = 0; n < count; ++n)
+            ASSERT_TRUE(sameSample(lanes[n], reference[n]))
+                << instructionSetName(set) << ", mode " << unsigned(mode) << ", point " << n;
+        }
       }
     }
   }

@@ -122,15 +122,24 @@ DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
   return v;
 }
 
-/// View::sample(p) (nearest) for the lanes of `p`. Lanes outside `active` give kNoField.
-template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view, V3 p, M active) {
+/// p in voxel units (View::toVoxelUnits), and the lanes of `active` inside the grid (a NaN is not).
+DNG_LANE_INLINE M toVoxelUnits(const View& view, V3 p, M active, V3* out_u) {
   const GridInfo& g = view.grid();
   const F inv = splat(ViewInternals::invVoxelSize(view));
   const float* dims = ViewInternals::dimsF(view);
   const V3 u{(p.x - splat(g.origin.x)) * inv, (p.y - splat(g.origin.y)) * inv, (p.z - splat(g.origin.z)) * inv};
   const F zero = splat(0.0f);
-  const M inside = active & (u.x >= zero) & (u.y >= zero) & (u.z >= zero) & (u.x < splat(dims[0])) &
-                   (u.y < splat(dims[1])) & (u.z < splat(dims[2]));
+  *out_u = u;
+  return active & (u.x >= zero) & (u.y >= zero) & (u.z >= zero) & (u.x < splat(dims[0])) & (u.y < splat(dims[1])) &
+         (u.z < splat(dims[2]));
+}
+
+/// View::sample(p) (nearest) for the lanes of `p`. Lanes outside `active` give kNoField.
+template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view, V3 p, M active) {
+  const GridInfo& g = view.grid();
+  V3 u;
+  const M inside = toVoxelUnits(view, p, active, &u);
+  const F zero = splat(0.0f);
   // Outside lanes index voxel 0, which every view has, and their gathers are masked off anyway.
   const I i = truncate(select(inside, u.x, zero)), j = truncate(select(inside, u.y, zero)),
           k = truncate(select(inside, u.z, zero));
@@ -153,10 +162,58 @@ template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view,
   return out;
 }
 
-/// View::sampleBatch (nearest) over strided points, lanes at a time; the tail goes through
-/// View::sample. Writes out[0..count).
-template <bool kDense>
-void nearestBatch(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
+/// View::sample(p, kTrilinear) for the lanes of `p`: the eight voxel centres around p, the stencil
+/// clamped at the grid's faces (view_sample.cpp stencilAt), blended corner by corner in the scalar
+/// order. Lanes outside `active` give kNoField.
+template <bool kDense> DNG_LANE_INLINE LaneSample trilinearLanes(const View& view, V3 p, M active) {
+  const GridInfo& g = view.grid();
+  V3 u;
+  const M inside = toVoxelUnits(view, p, active, &u);
+  const F zero = splat(0.0f), one = splat(1.0f), half = splat(0.5f);
+  const float* dims = ViewInternals::dimsF(view);
+  // Outside lanes take voxel 0's stencil, which every view has; their gathers are masked off.
+  const F at[3] = {select(inside, u.x, zero), select(inside, u.y, zero), select(inside, u.z, zero)};
+  I lo[3], hi[3];
+  F t[3];
+  for (int a = 0; a < 3; ++a) {
+    const F c = maxOf(at[a] - half, zero); // centres sit at i + 0.5
+    lo[a] = truncate(c);
+    const F lo_f = toFloat(lo[a]);
+    hi[a] = select(lo_f + one < splat(dims[a]), lo[a] + splatI(1), lo[a]);
+    t[a] = minOf(c - lo_f, one);
+  }
+  F distance = zero;
+  V3 normal = splat(0.0f, 0.0f, 0.0f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const bool up[3] = {(corner & 1) != 0, (corner & 2) != 0, (corner & 4) != 0};
+    const F w = (up[0] ? t[0] : one - t[0]) * (up[1] ? t[1] : one - t[1]) * (up[2] ? t[2] : one - t[2]);
+    const I i = up[0] ? hi[0] : lo[0], j = up[1] ? hi[1] : lo[1], k = up[2] ? hi[2] : lo[2];
+    const LaneVoxel v = kDense ? denseVoxel(view, i, j, k, inside) : brickedVoxel(view, i, j, k, inside);
+    distance = distance + w * v.distance;
+    normal = normal + v.normal * w;
+  }
+  // normalizeOrZero: a zero, infinite or NaN length gives no normal.
+  const F len = sqrt(dot(normal, normal));
+  const M unit = (len > zero) & (len < splat(std::numeric_limits<float>::infinity()));
+  const F scale = one / len;
+  const V3 n{select(unit, normal.x * scale, zero), select(unit, normal.y * scale, zero),
+             select(unit, normal.z * scale, zero)};
+
+  LaneSample out;
+  out.no_field = ~inside;
+  out.in_band = inside & (abs(distance) < splat(g.band));
+  const M far = andNot(inside, out.in_band);
+  out.far_outside = far & (distance > zero);
+  out.far_inside = andNot(far, out.far_outside);
+  out.distance = select(inside, distance, splat(std::numeric_limits<float>::infinity()));
+  out.normal = select(out.in_band, n, splat(0.0f, 0.0f, 0.0f));
+  return out;
+}
+
+/// View::sampleBatch (nearest or trilinear) over strided points, lanes at a time; the tail goes
+/// through View::sample. Writes out[0..count).
+template <bool kDense, bool kTrilinear>
+void sampleLanesBatch(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
   const auto* bytes = reinterpret_cast<const unsigned char*>(points);
   std::size_t n = 0;
   for (; n + kWidth <= count; n += kWidth) {
@@ -166,7 +223,9 @@ void nearestBatch(const View& view, const float* points, std::size_t stride, std
       std::memcpy(p, bytes + (n + std::size_t(lane)) * stride, sizeof p);
       xyz[0][lane] = p[0], xyz[1][lane] = p[1], xyz[2][lane] = p[2];
     }
-    const LaneSample s = nearestLanes<kDense>(view, {load(xyz[0]), load(xyz[1]), load(xyz[2])}, allTrue());
+    const V3 p{load(xyz[0]), load(xyz[1]), load(xyz[2])};
+    const LaneSample s =
+        kTrilinear ? trilinearLanes<kDense>(view, p, allTrue()) : nearestLanes<kDense>(view, p, allTrue());
     alignas(32) float d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
     store(d, s.distance), store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
     const unsigned in_band = bits(s.in_band), outside = bits(s.far_outside), inside = bits(s.far_inside);
@@ -182,17 +241,24 @@ void nearestBatch(const View& view, const float* points, std::size_t stride, std
   for (; n < count; ++n) {
     float p[3];
     std::memcpy(p, bytes + n * stride, sizeof p);
-    out[n] = view.sample(Vec3f{p[0], p[1], p[2]});
+    out[n] = view.sample(Vec3f{p[0], p[1], p[2]}, kTrilinear ? Interpolation::kTrilinear : Interpolation::kNearest);
   }
 }
 
-/// The same for either encoding: the kernel table's entry (step_batch.h BatchKernels).
+/// The same for either encoding: the kernel table's entries (step_batch.h BatchKernels).
 inline void sampleNearestBatch(const View& view, const float* points, std::size_t stride, std::size_t count,
                                Sample* out) {
   if (view.grid().encoding == format::Encoding::kDense)
-    nearestBatch<true>(view, points, stride, count, out);
+    sampleLanesBatch<true, false>(view, points, stride, count, out);
   else
-    nearestBatch<false>(view, points, stride, count, out);
+    sampleLanesBatch<false, false>(view, points, stride, count, out);
+}
+inline void sampleTrilinearBatch(const View& view, const float* points, std::size_t stride, std::size_t count,
+                                 Sample* out) {
+  if (view.grid().encoding == format::Encoding::kDense)
+    sampleLanesBatch<true, true>(view, points, stride, count, out);
+  else
+    sampleLanesBatch<false, true>(view, points, stride, count, out);
 }
 
 } // namespace DNG_LANES_NS

@@ -298,12 +298,16 @@ void View::sampleBatch(const float* points, std::size_t point_stride_bytes, std:
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return accurate<fmt::Encoding::kDense>(p); });
   } else if (mode == Interpolation::kAccurate) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return accurate<fmt::Encoding::kBricked>(p); });
+  } else if (const BatchKernels* kernels = activeBatchKernels(); kernels != nullptr && batchIndexable(*this)) {
+    // SIMD lanes, bit for bit the same
+    if (mode == Interpolation::kTrilinear)
+      kernels->sample_trilinear(*this, points, stride, count, out_samples);
+    else
+      kernels->sample_nearest(*this, points, stride, count, out_samples);
   } else if (mode == Interpolation::kTrilinear && dense_ != nullptr) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kDense>(p); });
   } else if (mode == Interpolation::kTrilinear) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kBricked>(p); });
-  } else if (const BatchKernels* kernels = activeBatchKernels(); kernels != nullptr && batchIndexable(*this)) {
-    kernels->sample_nearest(*this, points, stride, count, out_samples); // SIMD lanes, bit for bit the same
   } else if (dense_ != nullptr) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return nearest<fmt::Encoding::kDense>(p); });
   } else {
