@@ -29,6 +29,10 @@ struct Data {
   const format::DenseField& field = bench::sphereScene().field;
   const View& dense = bench::sphereScene().dense;
   const View& bricked = bench::sphereScene().bricked;
+  // The same field with LIFT and GRAD sections, as dngbake writes beside blurred normals: what the
+  // accurate query reads (here the lifts are zero and the gradients the normals; the reads are real).
+  std::vector<std::uint8_t> dense_extra_bytes, bricked_extra_bytes;
+  View dense_extra, bricked_extra;
   std::vector<Vec3f> coherent, random;
   std::vector<float> raw; // float4 per voxel
 #ifdef DNG_HAVE_NANOVDB
@@ -56,6 +60,13 @@ void makePoints(Data& d) {
 const Data& data() {
   static const Data* instance = [] {
     auto* d = new Data;
+    format::DenseField extra = d->field;
+    extra.accurate = extra.distance;
+    extra.gradient = extra.normal;
+    d->dense_extra_bytes = format::encodeDense(extra, "").bytes;
+    d->bricked_extra_bytes = format::encodeBricked(extra, {}, "").bytes;
+    View::open(d->dense_extra_bytes.data(), d->dense_extra_bytes.size(), &d->dense_extra);
+    View::open(d->bricked_extra_bytes.data(), d->bricked_extra_bytes.size(), &d->bricked_extra);
     for (std::size_t v = 0; v < d->field.distance.size(); ++v) {
       const Vec3f n = d->field.normal[v];
       d->raw.insert(d->raw.end(), {d->field.distance[v], n.x, n.y, n.z});
@@ -84,14 +95,16 @@ void reportPerQuery(benchmark::State& state, std::size_t count) {
       benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// Arguments: encoding (0 dense, 1 bricked), interpolation (0 nearest, 1 trilinear), order (0 coherent, 1 random),
+// Arguments: encoding (0 dense, 1 bricked), interpolation (0 nearest, 1 trilinear, 2 accurate, on the field
+// with LIFT and GRAD sections), order (0 coherent, 1 random),
 // path (0 the best SIMD kernels of this CPU, 1 the scalar reference, whose samples are bit for bit the same).
 void BM_Sample(benchmark::State& state) {
   const Data& d = data();
   const InstructionSet before = activeInstructionSet();
   setInstructionSet(state.range(3) == 0 ? bestInstructionSet() : InstructionSet::kScalar);
-  const View& view = state.range(0) == 0 ? d.dense : d.bricked;
   const auto mode = Interpolation(state.range(1));
+  const bool extra = mode == Interpolation::kAccurate;
+  const View& view = state.range(0) == 0 ? (extra ? d.dense_extra : d.dense) : (extra ? d.bricked_extra : d.bricked);
   const std::vector<Vec3f>& points = state.range(2) == 0 ? d.coherent : d.random;
   std::vector<Sample> out(points.size());
   for (auto _ : state) {
@@ -100,11 +113,12 @@ void BM_Sample(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   setInstructionSet(before);
-  state.SetLabel(std::string(state.range(0) ? "bricked" : "dense") + (state.range(1) ? " trilinear" : " nearest") +
+  static const char* const kModes[] = {" nearest", " trilinear", " accurate"};
+  state.SetLabel(std::string(state.range(0) ? "bricked" : "dense") + kModes[state.range(1)] +
                  (state.range(2) ? " random" : " coherent") + (state.range(3) ? " scalar" : " simd"));
   reportPerQuery(state, points.size());
 }
-BENCHMARK(BM_Sample)->ArgsProduct({{0, 1}, {0, 1}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Sample)->ArgsProduct({{0, 1}, {0, 1, 2}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 // Baseline: the voxel's float4 from a bare array, bounds-checked, no refinement.
 void BM_RawArray(benchmark::State& state) {

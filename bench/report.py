@@ -352,7 +352,9 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
           "validation: the paper's plain normal grid at its cheapest). **NanoVDB**: a `ReadAccessor` on a NanoVDB "
           "level set of the same distances, normal from 3 forward differences.\n")
     print("Each query runs with the best SIMD kernels of this CPU and again with the scalar reference path, "
-          "whose samples are bit for bit the same (last columns).\n")
+          "whose samples are bit for bit the same (last columns). The accurate rows read the same field written "
+          "with LIFT and GRAD sections, as `dngbake` writes them beside blurred normals (here the lifts are zero "
+          "and the gradients are the normals, so only the reads are added).\n")
     print("| query | order | ns/query | vs raw array | vs NanoVDB | scalar ns/query | SIMD speed-up |")
     print("|---|---|---:|---:|---:|---:|---:|")
     rows = [(k, v) for k, v in m.items() if k.startswith("BM_Sample/") and k.endswith("/0")]

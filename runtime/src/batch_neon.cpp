@@ -6,7 +6,11 @@
 namespace dng {
 
 extern const BatchKernels kNeonKernels;
-const BatchKernels kNeonKernels = {"neon", &lanes::neon::sampleNearestBatch, &lanes::neon::sampleTrilinearBatch,
-                                   &lanes::neon::stepLanes, &lanes::neon::neighbourBound};
+const BatchKernels kNeonKernels = {"neon",
+                                   &lanes::neon::sampleNearestBatch,
+                                   &lanes::neon::sampleTrilinearBatch,
+                                   &lanes::neon::sampleAccurateBatch,
+                                   &lanes::neon::stepLanes,
+                                   &lanes::neon::neighbourBound};
 
 } // namespace dng

@@ -64,7 +64,15 @@ DNG_LANE_INLINE F rangeLanes(I q16, float band, float step) {
   return select(top, splat(band), splat(-band) + toFloat(q16) * splat(step));
 }
 
-DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
+/// A bricked voxel's value and where it came from: its tile's kind and index, and for bricks its pool
+/// word's index (what the accurate query's LIFT and GRAD sections are indexed by).
+struct BrickedVoxel {
+  LaneVoxel value;
+  M is_brick, is_plane;
+  I tile, word;
+};
+
+DNG_LANE_INLINE BrickedVoxel brickedVoxelAt(const View& view, I i, I j, I k, M m) {
   const GridInfo& g = view.grid();
   const int s = int(ViewInternals::brickLog2(view));
   const I tile = (shiftRight(k, s) * splatI(std::int32_t(g.brick_dims[1])) + shiftRight(j, s)) *
@@ -81,13 +89,14 @@ DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
   // surface) stops here.
   const float band = g.band;
   LaneVoxel v{select(is_far_inside, splat(-band), splat(band)), splat(0.0f, 0.0f, 0.0f)};
-  if (!any(is_brick | is_plane)) return v;
+  if (!any(is_brick | is_plane)) return {v, is_brick, is_plane, tile, splatI(0)};
 
   // Bricks: the voxel's word in the pool.
   const I cell_mask = splatI((1 << s) - 1);
   const I local = shiftLeft(k & cell_mask, 2 * s) | shiftLeft(j & cell_mask, s) | (i & cell_mask);
   const I pool_index = shiftRight(lo32, 2) & splatI(std::int32_t(format::kMaxPoolBricks - 1));
-  const I word = gather(ViewInternals::pool(view), shiftLeft(pool_index, 3 * s) + local, is_brick);
+  const I word_index = shiftLeft(pool_index, 3 * s) + local;
+  const I word = gather(ViewInternals::pool(view), word_index, is_brick);
   const float step = ViewInternals::rangeStep(view);
   const F lo = rangeLanes(hi32 & splatI(0xFFFF), band, step);
   const F hi = rangeLanes(shiftRight(hi32, 16), band, step);
@@ -119,7 +128,11 @@ DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
   const F plane_distance = asFloat(hi32) + splat(g.voxel_size) * dot(n, from_centre);
   v.distance = select(is_brick, brick_distance, select(is_plane, plane_distance, v.distance));
   v.normal = select(is_brick | is_plane, n, v.normal);
-  return v;
+  return {v, is_brick, is_plane, tile, word_index};
+}
+
+DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
+  return brickedVoxelAt(view, i, j, k, m).value;
 }
 
 /// p in voxel units (View::toVoxelUnits), and the lanes of `active` inside the grid (a NaN is not).
@@ -162,57 +175,207 @@ template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view,
   return out;
 }
 
-/// View::sample(p, kTrilinear) for the lanes of `p`: the eight voxel centres around p, the stencil
-/// clamped at the grid's faces (view_sample.cpp stencilAt), blended corner by corner in the scalar
-/// order. Lanes outside `active` give kNoField.
-template <bool kDense> DNG_LANE_INLINE LaneSample trilinearLanes(const View& view, V3 p, M active) {
-  const GridInfo& g = view.grid();
-  V3 u;
-  const M inside = toVoxelUnits(view, p, active, &u);
-  const F zero = splat(0.0f), one = splat(1.0f), half = splat(0.5f);
-  const float* dims = ViewInternals::dimsF(view);
-  // Outside lanes take voxel 0's stencil, which every view has; their gathers are masked off.
-  const F at[3] = {select(inside, u.x, zero), select(inside, u.y, zero), select(inside, u.z, zero)};
+/// The eight voxel centres around the lanes' points (view_sample.cpp Stencil): per axis the lower and
+/// upper index, clamped at the grid's faces, and the point's place between them.
+struct LaneStencil {
   I lo[3], hi[3];
   F t[3];
+
+  I index(int corner, int axis) const { return (corner >> axis) & 1 ? hi[axis] : lo[axis]; }
+  F along(int corner, int axis) const { return (corner >> axis) & 1 ? t[axis] : splat(1.0f) - t[axis]; }
+  F weight(int corner) const { return along(corner, 0) * along(corner, 1) * along(corner, 2); }
+  /// d weight / d u: the weight with the axis' own factor replaced by its slope, +-1.
+  V3 weightSlope(int corner) const {
+    const F s[3] = {splat((corner & 1) ? 1.0f : -1.0f), splat((corner & 2) ? 1.0f : -1.0f),
+                    splat((corner & 4) ? 1.0f : -1.0f)};
+    return {s[0] * along(corner, 1) * along(corner, 2), along(corner, 0) * s[1] * along(corner, 2),
+            along(corner, 0) * along(corner, 1) * s[2]};
+  }
+};
+
+// Outside lanes take voxel 0's stencil, which every view has; their gathers are masked off.
+DNG_LANE_INLINE LaneStencil stencilLanes(const View& view, V3 u, M inside) {
+  const F zero = splat(0.0f), one = splat(1.0f), half = splat(0.5f);
+  const float* dims = ViewInternals::dimsF(view);
+  const F at[3] = {select(inside, u.x, zero), select(inside, u.y, zero), select(inside, u.z, zero)};
+  LaneStencil s;
   for (int a = 0; a < 3; ++a) {
     const F c = maxOf(at[a] - half, zero); // centres sit at i + 0.5
-    lo[a] = truncate(c);
-    const F lo_f = toFloat(lo[a]);
-    hi[a] = select(lo_f + one < splat(dims[a]), lo[a] + splatI(1), lo[a]);
-    t[a] = minOf(c - lo_f, one);
+    s.lo[a] = truncate(c);
+    const F lo_f = toFloat(s.lo[a]);
+    s.hi[a] = select(lo_f + one < splat(dims[a]), s.lo[a] + splatI(1), s.lo[a]);
+    s.t[a] = minOf(c - lo_f, one);
   }
-  F distance = zero;
-  V3 normal = splat(0.0f, 0.0f, 0.0f);
-  for (int corner = 0; corner < 8; ++corner) {
-    const bool up[3] = {(corner & 1) != 0, (corner & 2) != 0, (corner & 4) != 0};
-    const F w = (up[0] ? t[0] : one - t[0]) * (up[1] ? t[1] : one - t[1]) * (up[2] ? t[2] : one - t[2]);
-    const I i = up[0] ? hi[0] : lo[0], j = up[1] ? hi[1] : lo[1], k = up[2] ? hi[2] : lo[2];
-    const LaneVoxel v = kDense ? denseVoxel(view, i, j, k, inside) : brickedVoxel(view, i, j, k, inside);
-    distance = distance + w * v.distance;
-    normal = normal + v.normal * w;
-  }
-  // normalizeOrZero: a zero, infinite or NaN length gives no normal.
-  const F len = sqrt(dot(normal, normal));
-  const M unit = (len > zero) & (len < splat(std::numeric_limits<float>::infinity()));
-  const F scale = one / len;
-  const V3 n{select(unit, normal.x * scale, zero), select(unit, normal.y * scale, zero),
-             select(unit, normal.z * scale, zero)};
+  return s;
+}
 
+// normalizeOrZero (vec3.h): a zero, infinite or NaN length gives no normal.
+DNG_LANE_INLINE V3 normalizeOrZero(V3 v) {
+  const F zero = splat(0.0f);
+  const F len = sqrt(dot(v, v));
+  const M unit = (len > zero) & (len < splat(std::numeric_limits<float>::infinity()));
+  const F scale = splat(1.0f) / len;
+  return {select(unit, v.x * scale, zero), select(unit, v.y * scale, zero), select(unit, v.z * scale, zero)};
+}
+
+// View::finish and the no-field answer: the status of a blended distance, the normal only in band.
+DNG_LANE_INLINE LaneSample finishLanes(const View& view, M inside, F distance, V3 normal) {
+  const F zero = splat(0.0f);
   LaneSample out;
   out.no_field = ~inside;
-  out.in_band = inside & (abs(distance) < splat(g.band));
+  out.in_band = inside & (abs(distance) < splat(view.grid().band));
   const M far = andNot(inside, out.in_band);
   out.far_outside = far & (distance > zero);
   out.far_inside = andNot(far, out.far_outside);
   out.distance = select(inside, distance, splat(std::numeric_limits<float>::infinity()));
-  out.normal = select(out.in_band, n, splat(0.0f, 0.0f, 0.0f));
+  out.normal = select(out.in_band, normal, splat(0.0f, 0.0f, 0.0f));
   return out;
 }
 
-/// View::sampleBatch (nearest or trilinear) over strided points, lanes at a time; the tail goes
-/// through View::sample. Writes out[0..count).
-template <bool kDense, bool kTrilinear>
+/// View::sample(p, kTrilinear) for the lanes of `p`: the eight corners blended in the scalar order.
+/// Lanes outside `active` give kNoField.
+template <bool kDense> DNG_LANE_INLINE LaneSample trilinearLanes(const View& view, V3 p, M active) {
+  V3 u;
+  const M inside = toVoxelUnits(view, p, active, &u);
+  const LaneStencil s = stencilLanes(view, u, inside);
+  F distance = splat(0.0f);
+  V3 normal = splat(0.0f, 0.0f, 0.0f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const F w = s.weight(corner);
+    const I i = s.index(corner, 0), j = s.index(corner, 1), k = s.index(corner, 2);
+    const LaneVoxel v = kDense ? denseVoxel(view, i, j, k, inside) : brickedVoxel(view, i, j, k, inside);
+    distance = distance + w * v.distance;
+    normal = normal + v.normal * w;
+  }
+  return finishLanes(view, inside, distance, normalizeOrZero(normal));
+}
+
+// 16-bit section entries (LIFT, GRAD), widened; lanes where `m` is false give 0. Lane by lane: no set
+// here gathers 16-bit words, and a 32-bit gather could read past the end of the file's last section.
+template <class T> DNG_LANE_INLINE I gather16(const T* base, I index, M m) {
+  alignas(32) std::int32_t at[kWidth], out[kWidth];
+  std::memcpy(at, &index, sizeof at);
+  const unsigned on = bits(m);
+  for (int n = 0; n < kWidth; ++n)
+    out[n] = (on >> n) & 1u ? std::int32_t(base[at[n]]) : 0;
+  I widened;
+  std::memcpy(&widened, out, sizeof out);
+  return widened;
+}
+
+/// One corner of the accurate query (view_sample.cpp Corner): its lifted distance, its normal (GRAD's
+/// gradient where the file has one), p - centre in voxel units, and whether it is in band.
+struct LaneCorner {
+  F distance;
+  V3 normal, to_p;
+  M in_band;
+};
+
+// View::accurateValue for the lanes: the voxel's value, and for in-band voxels the lift added and
+// GRAD's normal in place of a brick word's (or a dense voxel's) stored one.
+template <bool kDense> DNG_LANE_INLINE LaneCorner accurateCorner(const View& view, I i, I j, I k, M inside) {
+  const GridInfo& g = view.grid();
+  const std::int16_t* lift = ViewInternals::lift(view);
+  const std::uint16_t* gradient = ViewInternals::gradient(view);
+  const F lift_step = splat(ViewInternals::liftStep(view));
+  LaneCorner c;
+  I lift_code = splatI(0), gradient_word = splatI(0);
+  M graded;
+  if (kDense) {
+    const LaneVoxel v = denseVoxel(view, i, j, k, inside);
+    c.distance = v.distance, c.normal = v.normal;
+    c.in_band = inside & (abs(v.distance) < splat(g.band));
+    const I at = (k * splatI(std::int32_t(g.dims[1])) + j) * splatI(std::int32_t(g.dims[0])) + i;
+    if (lift != nullptr) lift_code = gather16(lift, at, c.in_band);
+    if (gradient != nullptr) gradient_word = gather16(gradient, at, c.in_band);
+    graded = c.in_band;
+  } else {
+    const BrickedVoxel b = brickedVoxelAt(view, i, j, k, inside);
+    c.distance = b.value.distance, c.normal = b.value.normal;
+    c.in_band = inside & (abs(b.value.distance) < splat(g.band));
+    const M plane = c.in_band & b.is_plane, brick = andNot(c.in_band, b.is_plane); // far tiles are not in band
+    if (lift != nullptr) {
+      const I tile_lift = gather16(lift, b.tile, plane);
+      const I word_lift = gather16(ViewInternals::liftPool(view), b.word, brick);
+      lift_code = select(plane, tile_lift, word_lift);
+    }
+    if (gradient != nullptr) gradient_word = gather16(gradient, b.word, brick);
+    graded = brick; // a plane tile's normal is its gradient already
+  }
+  if (lift != nullptr) c.distance = select(c.in_band, c.distance + toFloat(lift_code) * lift_step, c.distance);
+  if (gradient != nullptr && any(graded)) {
+    const I mask = splatI((1 << format::kGradientOctBits) - 1);
+    const V3 n = octDecodeLanes(gradient_word & mask, shiftRight(gradient_word, format::kGradientOctBits) & mask,
+                                splat(2.0f / float((1u << format::kGradientOctBits) - 1)));
+    c.normal = {select(graded, n.x, c.normal.x), select(graded, n.y, c.normal.y), select(graded, n.z, c.normal.z)};
+  }
+  return c;
+}
+
+// view_sample.cpp extendPastTheBand for the lanes: each corner beyond the band, in a lane whose
+// stencil has in-band corners too, takes the mean of their planes at its centre (kept beyond the band)
+// and their normalized mean normal. Sums run over the in-band corners in the scalar order.
+DNG_LANE_INLINE void extendPastTheBand(LaneCorner corners[8], float band, float voxel) {
+  const F zero = splat(0.0f);
+  F in_band = zero;
+  for (int c = 0; c < 8; ++c)
+    in_band = select(corners[c].in_band, in_band + splat(1.0f), in_band);
+  const M mixed = (in_band > zero) & (in_band < splat(8.0f));
+  if (!any(mixed)) return;
+  for (int far = 0; far < 8; ++far) {
+    const M extend = andNot(mixed, corners[far].in_band);
+    if (!any(extend)) continue;
+    F planes = zero;
+    V3 normals = splat(0.0f, 0.0f, 0.0f);
+    for (int near = 0; near < 8; ++near) {
+      const LaneCorner& c = corners[near];
+      const F plane = c.distance + splat(voxel) * dot(c.normal, c.to_p - corners[far].to_p);
+      planes = select(c.in_band, planes + plane, planes);
+      const V3 sum = normals + c.normal;
+      normals = {select(c.in_band, sum.x, normals.x), select(c.in_band, sum.y, normals.y),
+                 select(c.in_band, sum.z, normals.z)};
+    }
+    const F mean = planes / in_band;
+    const F kept = select(corners[far].distance > zero, maxOf(mean, splat(band)), minOf(mean, splat(-band)));
+    const V3 n = normalizeOrZero(normals);
+    LaneCorner& f = corners[far];
+    f.distance = select(extend, kept, f.distance);
+    f.normal = {select(extend, n.x, f.normal.x), select(extend, n.y, f.normal.y), select(extend, n.z, f.normal.z)};
+  }
+}
+
+/// View::sample(p, kAccurate) for the lanes of `p`: each corner's lifted distance plus half its plane's
+/// rise towards p, blended, and the blend's gradient as the normal. Lanes outside `active` give
+/// kNoField.
+template <bool kDense> DNG_LANE_INLINE LaneSample accurateLanes(const View& view, V3 p, M active) {
+  const GridInfo& g = view.grid();
+  V3 u;
+  const M inside = toVoxelUnits(view, p, active, &u);
+  const LaneStencil s = stencilLanes(view, u, inside);
+  const F half = splat(0.5f);
+  LaneCorner corners[8];
+  for (int corner = 0; corner < 8; ++corner) {
+    const I i = s.index(corner, 0), j = s.index(corner, 1), k = s.index(corner, 2);
+    corners[corner] = accurateCorner<kDense>(view, i, j, k, inside);
+    corners[corner].to_p = {u.x - toFloat(i) - half, u.y - toFloat(j) - half, u.z - toFloat(k) - half};
+  }
+  extendPastTheBand(corners, g.band, g.voxel_size);
+  const F half_voxel = splat(0.5f * g.voxel_size);
+  F distance = splat(0.0f);
+  V3 slope = splat(0.0f, 0.0f, 0.0f); // d distance / d u; only its direction is used
+  for (int corner = 0; corner < 8; ++corner) {
+    const LaneCorner& c = corners[corner];
+    const F value = c.distance + half_voxel * dot(c.normal, c.to_p);
+    const F w = s.weight(corner);
+    distance = distance + w * value;
+    slope = slope + s.weightSlope(corner) * value + c.normal * (w * half_voxel);
+  }
+  return finishLanes(view, inside, distance, normalizeOrZero(slope));
+}
+
+/// View::sampleBatch over strided points, lanes at a time; the tail goes through View::sample. Writes
+/// out[0..count).
+template <bool kDense, Interpolation kMode>
 void sampleLanesBatch(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
   const auto* bytes = reinterpret_cast<const unsigned char*>(points);
   std::size_t n = 0;
@@ -224,8 +387,9 @@ void sampleLanesBatch(const View& view, const float* points, std::size_t stride,
       xyz[0][lane] = p[0], xyz[1][lane] = p[1], xyz[2][lane] = p[2];
     }
     const V3 p{load(xyz[0]), load(xyz[1]), load(xyz[2])};
-    const LaneSample s =
-        kTrilinear ? trilinearLanes<kDense>(view, p, allTrue()) : nearestLanes<kDense>(view, p, allTrue());
+    const LaneSample s = kMode == Interpolation::kAccurate    ? accurateLanes<kDense>(view, p, allTrue())
+                         : kMode == Interpolation::kTrilinear ? trilinearLanes<kDense>(view, p, allTrue())
+                                                              : nearestLanes<kDense>(view, p, allTrue());
     alignas(32) float d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
     store(d, s.distance), store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
     const unsigned in_band = bits(s.in_band), outside = bits(s.far_outside), inside = bits(s.far_inside);
@@ -241,24 +405,29 @@ void sampleLanesBatch(const View& view, const float* points, std::size_t stride,
   for (; n < count; ++n) {
     float p[3];
     std::memcpy(p, bytes + n * stride, sizeof p);
-    out[n] = view.sample(Vec3f{p[0], p[1], p[2]}, kTrilinear ? Interpolation::kTrilinear : Interpolation::kNearest);
+    out[n] = view.sample(Vec3f{p[0], p[1], p[2]}, kMode);
   }
 }
 
-/// The same for either encoding: the kernel table's entries (step_batch.h BatchKernels).
+/// The same for either encoding, one kernel table entry per interpolation (step_batch.h BatchKernels).
+template <Interpolation kMode>
+void sampleBatchLanes(const View& view, const float* points, std::size_t stride, std::size_t count, Sample* out) {
+  if (view.grid().encoding == format::Encoding::kDense)
+    sampleLanesBatch<true, kMode>(view, points, stride, count, out);
+  else
+    sampleLanesBatch<false, kMode>(view, points, stride, count, out);
+}
 inline void sampleNearestBatch(const View& view, const float* points, std::size_t stride, std::size_t count,
                                Sample* out) {
-  if (view.grid().encoding == format::Encoding::kDense)
-    sampleLanesBatch<true, false>(view, points, stride, count, out);
-  else
-    sampleLanesBatch<false, false>(view, points, stride, count, out);
+  sampleBatchLanes<Interpolation::kNearest>(view, points, stride, count, out);
 }
 inline void sampleTrilinearBatch(const View& view, const float* points, std::size_t stride, std::size_t count,
                                  Sample* out) {
-  if (view.grid().encoding == format::Encoding::kDense)
-    sampleLanesBatch<true, true>(view, points, stride, count, out);
-  else
-    sampleLanesBatch<false, true>(view, points, stride, count, out);
+  sampleBatchLanes<Interpolation::kTrilinear>(view, points, stride, count, out);
+}
+inline void sampleAccurateBatch(const View& view, const float* points, std::size_t stride, std::size_t count,
+                                Sample* out) {
+  sampleBatchLanes<Interpolation::kAccurate>(view, points, stride, count, out);
 }
 
 } // namespace DNG_LANES_NS

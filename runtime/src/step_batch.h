@@ -79,6 +79,8 @@ struct BatchKernels {
                          Sample* out_samples);
   void (*sample_trilinear)(const View& view, const float* points, std::size_t stride, std::size_t count,
                            Sample* out_samples);
+  void (*sample_accurate)(const View& view, const float* points, std::size_t stride, std::size_t count,
+                          Sample* out_samples);
   void (*step)(const StepBatch& batch);
   /// walk.cpp's neighbour bound over `points`: max(-reach, value - gap) over the 26, where a cell's
   /// value is its sample's distance capped at reach (reach where there is no field), far inside cells

@@ -14,6 +14,10 @@ struct ViewInternals {
   static const format::DenseVoxel* dense(const View& v) { return v.dense_; }
   static const std::uint64_t* top(const View& v) { return v.top_; }
   static const std::uint32_t* pool(const View& v) { return v.pool_; }
+  static const std::int16_t* lift(const View& v) { return v.lift_; }
+  static const std::int16_t* liftPool(const View& v) { return v.lift_pool_; }
+  static float liftStep(const View& v) { return v.lift_step_; }
+  static const std::uint16_t* gradient(const View& v) { return v.gradient_; }
 };
 
 } // namespace dng

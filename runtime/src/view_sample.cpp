@@ -294,16 +294,18 @@ void View::sampleBatch(const float* points, std::size_t point_stride_bytes, std:
   if (!valid()) {
     for (std::size_t n = 0; n < count; ++n)
       out_samples[n] = noField();
+  } else if (const BatchKernels* kernels = activeBatchKernels(); kernels != nullptr && batchIndexable(*this)) {
+    // SIMD lanes, bit for bit the same
+    if (mode == Interpolation::kAccurate)
+      kernels->sample_accurate(*this, points, stride, count, out_samples);
+    else if (mode == Interpolation::kTrilinear)
+      kernels->sample_trilinear(*this, points, stride, count, out_samples);
+    else
+      kernels->sample_nearest(*this, points, stride, count, out_samples);
   } else if (mode == Interpolation::kAccurate && dense_ != nullptr) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return accurate<fmt::Encoding::kDense>(p); });
   } else if (mode == Interpolation::kAccurate) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return accurate<fmt::Encoding::kBricked>(p); });
-  } else if (const BatchKernels* kernels = activeBatchKernels(); kernels != nullptr && batchIndexable(*this)) {
-    // SIMD lanes, bit for bit the same
-    if (mode == Interpolation::kTrilinear)
-      kernels->sample_trilinear(*this, points, stride, count, out_samples);
-    else
-      kernels->sample_nearest(*this, points, stride, count, out_samples);
   } else if (mode == Interpolation::kTrilinear && dense_ != nullptr) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kDense>(p); });
   } else if (mode == Interpolation::kTrilinear) {
