@@ -162,10 +162,16 @@ static void test_stepping(const dng_field* box) {
 
   CHECK(dng_scene_create(&scene) == DNG_OK);
   dng_material_default(&material);
-  material.restitution = 0.8f;
+  material.restitution = 0.0f; /* would stop the particles at the face; replaced below */
   material.collision_distance = 0.2f;
   CHECK(dng_scene_add_body(scene, box, &material, &body, message, sizeof message) == DNG_OK);
   CHECK(body == 0);
+  material.restitution = -1.0f;
+  CHECK(dng_scene_set_material(scene, body, &material, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  CHECK(strstr(message, "restitution") != NULL);
+  CHECK(dng_scene_set_material(scene, 3, &material, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  material.restitution = 0.8f; /* the bounce-back checked after stepping shows this one took effect */
+  CHECK(dng_scene_set_material(scene, body, &material, message, sizeof message) == DNG_OK);
   CHECK(dng_scene_set_transform(scene, body, place, message, sizeof message) == DNG_OK);
   CHECK(dng_scene_set_transform(scene, body, shear, message, sizeof message) == DNG_INVALID_ARGUMENT);
   CHECK(strstr(message, "shear") != NULL);

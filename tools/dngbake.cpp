@@ -82,7 +82,8 @@ void addOptions(CLI::App& app, CommandLine& cl) {
   auto* dt = app.add_option("--dt", cl.bake.dt, "simulation step in seconds (with --max-speed)")->excludes(band);
   speed->needs(dt);
   dt->needs(speed);
-  app.add_option("--blur-radius", cl.bake.blur_radius, "blur kernel radius in voxels, 2-4 (default 3)");
+  app.add_option("--blur-radius", cl.bake.blur_radius,
+                 "blur kernel radius in voxels, 1-8; the paper uses 2-4 (default 3)");
   app.add_option("--blur-rounds", cl.bake.blur_rounds, "blur rounds (default 3)");
   const std::map<std::string, SignMode> signs{
       {"auto", SignMode::kAuto}, {"winding", SignMode::kWinding}, {"pseudonormal", SignMode::kPseudonormal}};

@@ -1,4 +1,4 @@
-// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V16 and V19). After it succeeds, every
+// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V16, V19 and V20). After it succeeds, every
 // offset, size and brick index the query path uses is known to be in range, and every float it
 // reads is finite, so queries need no checks beyond clamping the position.
 #include "diagnostic.h"

@@ -1,4 +1,4 @@
-// Which SIMD instruction set View::sampleBatch (nearest) and stepParticles use.
+// Which SIMD instruction set View::sampleBatch (all three modes) and stepParticles use.
 //
 // The runtime carries its batch kernels for SSE4.1 (4 lanes) and AVX2 (8 lanes) on x86-64, where it
 // picks the best one the CPU supports the first time it needs one, and for NEON (4 lanes) on aarch64. Every kernel
