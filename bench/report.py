@@ -197,15 +197,18 @@ def table1_section(path, table_mesh="fandisk"):
               "so fewer particles need the walk's neighbour bound; the blurred modes give smoother normals for "
               "drag and flow (docs/BAKING.md)." % (exact, best["ns"] / exact, exact / r("plain")))
     print("\n*Where the time goes* (a profile, not part of this run: `perf record -e cpu-clock` on this bench, and "
-          "callgrind on `bench/swarm_hash` with 20,000 particles near `fandisk.off`, 40 steps). Every particle here stays "
-          "within 2 voxels of the surface, so almost none is settled by its first sample: the lanes take two "
-          "samples per particle (start and end, the two-ball test) and settle about 97% of the particle-steps, "
-          "at about 215 instructions each. The other 3% are handed to the scalar walk, and cost about as much "
-          "again in total: they sit beside sharp edges, where a cell's plane reads below zero outside the surface "
-          "(the plane of the other face), and the walk then needs its neighbour bound, 26 samples (about 1,600 "
-          "instructions, taken in lanes), about twice per walk. What Embree pays for a short segment near a "
-          "12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample, and this scene "
-          "needs several samples per particle-step.")
+          "callgrind on `bench/swarm_hash` with 20,000 particles near `fandisk.off`, 20 steps: about 460 instructions "
+          "per particle-step). Every particle here stays within 2 voxels of the surface, so almost none is settled "
+          "by its first sample: the lanes take two samples per particle (start and end, the two-ball test) and "
+          "settle 98% of the particle-steps at about 275 instructions each. The other 2% are handed to the scalar "
+          "walk and take 40% of the instructions, about 10,000 each: they sit beside sharp edges, where a cell's "
+          "plane reads below zero outside the surface (the plane of the other face), and the walk needs its "
+          "neighbour bound, 26 samples (about 1,600 instructions, taken in lanes), 3.5 times per walk on average. "
+          "Most of those bounds go to particles sliding along an edge closer than a voxel: each bound proves less "
+          "than 1/8 voxel of room, the walk creeps, and the 14% of walks that take 7 bounds or more (70% of all "
+          "bounds) end turned back 86% of the time. What Embree pays for a short segment near a 12,946-triangle "
+          "mesh is a shallow BVH descent; what the field pays is fixed per sample, and this scene needs several "
+          "samples per particle-step.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
     sweep_n = min(n for (m, n, _) in rows if m != table_mesh) if any(m != table_mesh for (m, _, _) in rows) else n
