@@ -197,18 +197,18 @@ def table1_section(path, table_mesh="fandisk"):
               "so fewer particles need the walk's neighbour bound; the blurred modes give smoother normals for "
               "drag and flow (docs/BAKING.md)." % (exact, best["ns"] / exact, exact / r("plain")))
     print("\n*Where the time goes* (a profile, not part of this run: `perf record -e cpu-clock` on this bench, and "
-          "callgrind on `bench/swarm_hash` with 20,000 particles near `fandisk.off`, 20 steps: about 460 instructions "
+          "callgrind on `bench/swarm_hash` with 20,000 particles near `fandisk.off`, 20 steps: about 410 instructions "
           "per particle-step). Every particle here stays within 2 voxels of the surface, so almost none is settled "
           "by its first sample: the lanes take two samples per particle (start and end, the two-ball test) and "
-          "settle 98% of the particle-steps at about 275 instructions each. The other 2% are handed to the scalar "
-          "walk and take 40% of the instructions, about 10,000 each: they sit beside sharp edges, where a cell's "
-          "plane reads below zero outside the surface (the plane of the other face), and the walk needs its "
-          "neighbour bound, 26 samples (about 1,600 instructions, taken in lanes), 3.5 times per walk on average. "
-          "Most of those bounds go to particles sliding along an edge closer than a voxel: each bound proves less "
-          "than 1/8 voxel of room, the walk creeps, and the 14% of walks that take 7 bounds or more (70% of all "
-          "bounds) end turned back 86% of the time. What Embree pays for a short segment near a 12,946-triangle "
-          "mesh is a shallow BVH descent; what the field pays is fixed per sample, and this scene needs several "
-          "samples per particle-step.")
+          "settle 98.4% of the particle-steps at about 275 instructions each. The other 1.6% are handed to the "
+          "scalar walk and take a third of the instructions, about 8,400 each: they sit beside sharp edges, where "
+          "a cell's plane reads below zero outside the surface (the plane of the other face), and the walk needs "
+          "its neighbour bound, 26 samples (about 1,600 instructions, taken in lanes), 2.5 times per walk on "
+          "average. Most of those particles slide along an edge closer than a voxel, where each bound's ball "
+          "proves only a sliver of room; sliding the best neighbour's plane along with the particle cut the "
+          "bounds per walk from 3.5 and the step's instructions by 10%. What Embree pays for a short segment near "
+          "a 12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample, and this "
+          "scene needs several samples per particle-step.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
     sweep_n = min(n for (m, n, _) in rows if m != table_mesh) if any(m != table_mesh for (m, _, _) in rows) else n

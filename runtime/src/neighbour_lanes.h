@@ -10,12 +10,14 @@
 #include "walk.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace dng {
 namespace lanes {
 namespace DNG_LANES_NS {
 
-template <bool kDense> float neighbourBoundLanes(const View& view, const NeighbourPoints& points, float reach) {
+template <bool kDense>
+float neighbourBoundLanes(const View& view, const NeighbourPoints& points, float reach, float* out_terms) {
   static_assert(NeighbourPoints::kPadded % kWidth == 0, "the padded points fill whole registers");
   const F cap = splat(reach);
   F best = splat(-reach);
@@ -23,7 +25,9 @@ template <bool kDense> float neighbourBoundLanes(const View& view, const Neighbo
     const V3 p{load(points.x + n), load(points.y + n), load(points.z + n)};
     const LaneSample s = nearestLanes<kDense>(view, p, allTrue());
     const F value = select(s.no_field, cap, minOf(s.distance, cap));
-    best = select(s.far_inside, best, maxOf(value - load(points.gap + n), best));
+    const F term = value - load(points.gap + n);
+    store(out_terms + n, select(s.far_inside, splat(-std::numeric_limits<float>::infinity()), term));
+    best = select(s.far_inside, best, maxOf(term, best));
   }
   alignas(32) float lane[kWidth];
   store(lane, best);
@@ -31,9 +35,10 @@ template <bool kDense> float neighbourBoundLanes(const View& view, const Neighbo
 }
 
 /// The kernel table's entry (step_batch.h BatchKernels) for either encoding.
-inline float neighbourBound(const View& view, const NeighbourPoints& points, float reach) {
-  if (view.grid().encoding == format::Encoding::kDense) return neighbourBoundLanes<true>(view, points, reach);
-  return neighbourBoundLanes<false>(view, points, reach);
+inline float neighbourBound(const View& view, const NeighbourPoints& points, float reach, float* out_terms) {
+  if (view.grid().encoding == format::Encoding::kDense)
+    return neighbourBoundLanes<true>(view, points, reach, out_terms);
+  return neighbourBoundLanes<false>(view, points, reach, out_terms);
 }
 
 } // namespace DNG_LANES_NS

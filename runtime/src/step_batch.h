@@ -84,8 +84,9 @@ struct BatchKernels {
   void (*step)(const StepBatch& batch);
   /// walk.cpp's neighbour bound over `points`: max(-reach, value - gap) over the 26, where a cell's
   /// value is its sample's distance capped at reach (reach where there is no field), far inside cells
-  /// left out.
-  float (*neighbour_bound)(const View& view, const NeighbourPoints& points, float reach);
+  /// left out. Writes each point's own term, value - gap (-infinity for far inside cells), to
+  /// out_terms[0..kPadded).
+  float (*neighbour_bound)(const View& view, const NeighbourPoints& points, float reach, float* out_terms);
 };
 
 /// Whether the kernels may take a view: their 32-bit lane indices reach every byte of one under 8 GiB.

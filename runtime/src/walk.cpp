@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace dng {
 
@@ -107,19 +108,56 @@ NeighbourPoints neighboursOf(const GridInfo& g, Vec3f p) {
 // point nearest p, less the distance to it, bounds it at p too. This is what proves a point outside
 // when its own cell's plane cannot: near a convex edge the plane of the face the voxel centre is
 // closest to reads far below zero just outside the other face.
-float neighbourBound(const View& field, float reach, Vec3f p) {
-  const NeighbourPoints points = neighboursOf(field.grid(), p);
+// Each point's own term, value - gap (-infinity for far inside cells), goes to out_terms.
+float neighbourBound(const View& field, float reach, const NeighbourPoints& points, float* out_terms) {
   // The SIMD kernels take the 26 samples in lanes (dng/instruction_set.h), with the same result.
   const BatchKernels* kernels = activeBatchKernels();
-  if (kernels != nullptr && batchIndexable(field)) return kernels->neighbour_bound(field, points, reach);
+  if (kernels != nullptr && batchIndexable(field)) return kernels->neighbour_bound(field, points, reach, out_terms);
   float best = -reach;
   for (int k = 0; k < NeighbourPoints::kCount; ++k) {
     const Sample s = field.sample({points.x[k], points.y[k], points.z[k]});
+    out_terms[k] = -std::numeric_limits<float>::infinity();
     if (s.status == SampleStatus::kFarInside) continue;
     const float value = s.status == SampleStatus::kNoField ? reach : std::min(s.distance, reach);
-    best = std::max(best, value - points.gap[k]);
+    out_terms[k] = value - points.gap[k];
+    best = std::max(best, out_terms[k]);
   }
   return best;
+}
+
+float neighbourBound(const View& field, float reach, Vec3f p) {
+  float terms[NeighbourPoints::kPadded];
+  return neighbourBound(field, reach, neighboursOf(field.grid(), p), terms);
+}
+
+// How far (in t) the segment a + d t may go from t while a neighbour's plane keeps it `margin` clear:
+// the neighbour that gave `bound` (its term equals it), sampled at its point c. Its plane bounds the
+// distance inside its cell, so as the point moves by d (t - t0), the point c + d (t - t0) reads the
+// plane's value plus its change along d while it stays in that cell, and it stays exactly `gap` away
+// (distance is 1-Lipschitz). Beside an edge this slides a particle along the face it skims by up to
+// a cell per bound, where the bound's ball alone proves only a sliver. Returns t when it proves less.
+float slideEnd(const View& field, const NeighbourPoints& points, const float* terms, float bound, float margin, Vec3f d,
+               float t) {
+  int best = 0;
+  while (best < NeighbourPoints::kCount && terms[best] != bound)
+    ++best;
+  if (best == NeighbourPoints::kCount) return t;
+  const Vec3f c{points.x[best], points.y[best], points.z[best]};
+  const Sample s = field.sample(c);
+  if (s.status != SampleStatus::kInBand) return t; // a far cell's value need not follow one plane
+  const GridInfo& g = field.grid();
+  const float inv_h = 1.0f / g.voxel_size;
+  float room = std::numeric_limits<float>::infinity();
+  for (int axis = 0; axis < 3; ++axis) { // where c + d s leaves the cell c is in, as View finds it
+    const float du = component(d, axis) * inv_h;
+    if (du == 0.0f) continue;
+    const float u = (component(c, axis) - component(g.origin, axis)) * inv_h;
+    const float wall = du > 0.0f ? std::floor(u) + 1.0f : std::floor(u);
+    room = std::min(room, (wall - u) / du);
+  }
+  const float rate = dot(s.normal, d); // the plane's change per unit t
+  if (rate < 0.0f) room = std::min(room, (bound - margin) / -rate);
+  return t + room;
 }
 
 // The best lower bound of the distance at p the field gives: its own plane, or its neighbours'.
@@ -221,11 +259,13 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       continue;
     }
     // This cell's plane cannot clear the way: ask the cells around the point.
-    const float bound = neighbourBound(field, reach, p);
+    const NeighbourPoints around = neighboursOf(g, p);
+    float terms[NeighbourPoints::kPadded];
+    const float bound = neighbourBound(field, reach, around, terms);
     if (bound >= proof_level) proof = t;
     clear = bound - margin;
-    if (clear > 0.0f) {
-      t += clear / len;
+    if (clear > 0.0f) { // the bound's ball, or the sliding plane of the neighbour that gave it
+      t = std::max(t + clear / len, slideEnd(field, around, terms, bound, margin, d, t));
       continue;
     }
     if (bound >= proof_level) {

@@ -5,8 +5,11 @@
 //   - a ball: a point whose field value q is positive has no surface within q of it, in any direction,
 //     so the segment may advance by q (sphere tracing, as in a swept step);
 //   - a plane: inside one cell the field is the linear function q + n . (x - p), so the segment is
-//     clear up to where that plane reaches the margin, or to the cell's exit when it does not.
-// Each sample advances by the larger of the two. Near a surface that is a few samples per cell the
+//     clear up to where that plane reaches the margin, or to the cell's exit when it does not;
+//   - where the own cell's plane proves nothing (beside an edge), the neighbouring cells' planes: the
+//     best one's value, less the distance to its cell, is a ball, and it also holds while the point
+//     slides along with a twin point in that cell (walk.cpp slideEnd).
+// Each sample advances by the largest of these. Near a surface that is a few samples per cell the
 // segment crosses; away from it one ball covers the whole step.
 #pragma once
 
