@@ -6,11 +6,17 @@
 // is a quick A/B between two builds run in turn. Its fixed load is also a steady target for profilers
 // (perf, callgrind) without the bake that table1_bench does first.
 //
-//   swarm_hash FIELD.dng [--particles N] [--steps N] [--swept] [--isa scalar|sse4.1|avx2|neon]
+//   swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--swept]
+//              [--isa scalar|sse4.1|avx2|neon]
 //
-// The swarm: points drawn uniformly in the field's box, kept where the field reads 0 to 2 voxels
-// outside, with random velocities up to 1.5 voxels per step on each axis, gravity of 0.02 voxel per
-// step squared, impact (beta 0.5) with drag and flow as in table1_bench. Exit codes: 0 done, 1 bad
+// The swarm: points drawn uniformly in the field's box, kept where the field reads 0 (or --near V
+// voxels) to 2 voxels outside, with random velocities up to 1.5 voxels per step on each axis, gravity of 0.02 voxel per
+// step squared, impact (beta 0.5) with drag and flow as in table1_bench. With --lifetime N every
+// particle goes back to its spawn state after N steps (a 1/N slice each step, as table1_bench
+// respawns), so the swarm stays near the surface; without it the swarm spreads out and most late steps
+// are far from it. `--lifetime 8 --near 0.1` is close to Table 1's load (spawned 0.1 to 2 voxels out,
+// 8 steps each): a point spawned where the field reads below a hundredth of a voxel is one the field
+// cannot prove outside, and stays where it is (docs/RUNTIME.md, "Limits"). Exit codes: 0 done, 1 bad
 // arguments or unreadable field, 2 a step failed.
 #include "dng/body.h"
 #include "dng/file.h"
@@ -36,6 +42,8 @@ struct Options {
   const char* field = nullptr;
   std::size_t particles = 200000;
   int steps = 40;
+  int lifetime = 0;  ///< 0: never respawn
+  float near = 0.0f; ///< spawn where the field reads at least this many voxels
   bool swept = false;
   InstructionSet isa = bestInstructionSet();
 };
@@ -59,6 +67,10 @@ bool parse(int argc, char** argv, Options* out) {
       out->particles = std::strtoul(argv[++i], nullptr, 10);
     } else if (arg == "--steps" && has_value) {
       out->steps = std::atoi(argv[++i]);
+    } else if (arg == "--lifetime" && has_value) {
+      out->lifetime = std::atoi(argv[++i]);
+    } else if (arg == "--near" && has_value) {
+      out->near = std::strtof(argv[++i], nullptr);
     } else if (arg == "--swept") {
       out->swept = true;
     } else if (arg == "--isa" && has_value) {
@@ -69,7 +81,8 @@ bool parse(int argc, char** argv, Options* out) {
       return false;
     }
   }
-  return out->field != nullptr && out->particles > 0 && out->steps > 0;
+  return out->field != nullptr && out->particles > 0 && out->steps > 0 && out->lifetime >= 0 && out->near >= 0.0f &&
+         out->near < 2.0f;
 }
 
 struct Swarm {
@@ -85,7 +98,7 @@ struct Swarm {
   }
 };
 
-Swarm spawn(const View& view, std::size_t count) {
+Swarm spawn(const View& view, std::size_t count, float near) {
   const GridInfo& g = view.grid();
   const float h = g.voxel_size, speed = 1.5f * h / kDt;
   std::mt19937 rng(7);
@@ -95,13 +108,21 @@ Swarm spawn(const View& view, std::size_t count) {
     const Vec3f p{g.origin.x + unit(rng) * float(g.dims[0]) * h, g.origin.y + unit(rng) * float(g.dims[1]) * h,
                   g.origin.z + unit(rng) * float(g.dims[2]) * h};
     const Sample at = view.sample(p);
-    if (at.status != SampleStatus::kInBand || at.distance < 0.0f || at.distance > 2.0f * h) continue;
+    if (at.status != SampleStatus::kInBand || at.distance < near * h || at.distance > 2.0f * h) continue;
     s.px.push_back(p.x), s.py.push_back(p.y), s.pz.push_back(p.z);
     s.vx.push_back(signed_unit(rng) * speed), s.vy.push_back(signed_unit(rng) * speed);
     s.vz.push_back(signed_unit(rng) * speed);
   }
   s.body.assign(count, -1);
   return s;
+}
+
+// The slice of particles whose lifetime ends before this step starts again from its spawn state.
+void respawn(const Swarm& born, int step, std::size_t lifetime, Swarm* io) {
+  for (std::size_t n = std::size_t(step) % lifetime; n < born.px.size(); n += lifetime) {
+    io->px[n] = born.px[n], io->py[n] = born.py[n], io->pz[n] = born.pz[n];
+    io->vx[n] = born.vx[n], io->vy[n] = born.vy[n], io->vz[n] = born.vz[n];
+  }
 }
 
 Material materialFor(float h, bool swept) {
@@ -135,8 +156,8 @@ double threadSeconds() {
 int main(int argc, char** argv) {
   Options options;
   if (!parse(argc, argv, &options)) {
-    std::fprintf(stderr,
-                 "usage: swarm_hash FIELD.dng [--particles N] [--steps N] [--swept] [--isa scalar|sse4.1|avx2|neon]\n");
+    std::fprintf(stderr, "usage: swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--swept] "
+                         "[--isa scalar|sse4.1|avx2|neon]\n");
     return 1;
   }
   Diagnostic diag;
@@ -156,10 +177,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "swarm_hash: %s\n", diag.message);
     return 1;
   }
-  Swarm swarm = spawn(view, options.particles);
+  const Swarm born = spawn(view, options.particles, options.near);
+  Swarm swarm = born;
   Hash hash;
   double seconds = 0.0;
   for (int step = 0; step < options.steps; ++step) {
+    if (options.lifetime > 0) respawn(born, step, std::size_t(options.lifetime), &swarm);
     for (float& v : swarm.vz)
       v -= 0.02f * h / kDt;
     const double start = threadSeconds();

@@ -229,6 +229,30 @@ TEST(Step, DragStopsSlidingAndSpringHoldsParticlesUp) {
   EXPECT_GT(s.pz[0], 0.0f); // and was thrown back out
 }
 
+// The walk's stated limit (docs/RUNTIME.md, "Limits"): a particle closer to the surface than the field
+// can prove (a hundredth of a voxel) moves in no direction, and each step turns its velocity back
+// times beta; a little farther out the same particle slides along the floor.
+TEST(Step, AParticleTheFieldCannotProveOutsideStaysAndTurnsBack) {
+  const AnalyticField floor = analytic::planeField({0, 0, 1}, 0.0f); // solid below z = 0, unit voxels
+  Field field(floor);
+  const Body body = makeBody(field.view, impactMaterial(false)); // beta 0.5
+  Particles p;
+  p.add({0.25f, 0.25f, 0.003f}, {3.0f, 0.0f, 0.0f});  // too close to prove
+  p.add({0.25f, 2.25f, 0.05f}, {3.0f, 0.0f, 0.0f});   // provable, within the margin
+  p.add({0.25f, 4.25f, 0.003f}, {0.0f, 0.0f, 30.0f}); // too close, moving straight out
+  for (int step = 0; step < 4; ++step) {
+    const Vec3f before = p.position(0);
+    const float vx = p.vx[0];
+    ASSERT_EQ(stepParticles(p.span(), kDt, &body, 1), Status::kOk);
+    EXPECT_EQ(p.position(0).x, before.x);
+    EXPECT_EQ(p.position(0).z, before.z);
+    EXPECT_FLOAT_EQ(p.vx[0], -0.5f * vx) << "step " << step;
+  }
+  EXPECT_GT(p.px[1], 0.25f + 0.9f * 4.0f * 3.0f * kDt); // slid about 0.2 voxel
+  EXPECT_GE(p.pz[1], 0.0f);
+  EXPECT_EQ(p.pz[2], 0.003f); // even straight out: the field cannot tell it from a point just inside
+}
+
 TEST(Step, ArrayOfStructuresStridesGiveTheSameResult) {
   const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 12.0f);
   Field field(sphere);

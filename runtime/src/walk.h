@@ -52,8 +52,9 @@ struct NeighbourPoints {
 /// Walks the local segment a -> a + delta through `field`, keeping at least `margin` (local units)
 /// between the path and the surface as far as the field can prove it. `first`, when not null, is the
 /// field's sample at `a` (the step already took it for the particle's response). A start point the
-/// field cannot prove outside may move only along its voxel's normal (a particle a moving body has
-/// run into, or one spawned too close, works its way out). At most `max_samples` samples.
+/// field cannot prove outside, by its own plane or a neighbour's bound, is blocked in every direction
+/// (kReverse at t = 0), except from a far inside voxel, where there is nothing left to protect.
+/// At most `max_samples` samples.
 WalkResult walkSegment(const View& field, Vec3f a, Vec3f delta, const Sample* first, float margin, int max_samples);
 
 } // namespace dng
