@@ -1,7 +1,7 @@
 // The batch kernels built for AVX2, 8 lanes (compiled with the matching -m flag: runtime/CMakeLists.txt).
 // instruction_set.cpp calls them only on CPUs that support the set.
 #define DNG_LANES_AVX2
-#include "step_lanes.h"
+#include "span_lanes.h"
 
 namespace dng {
 

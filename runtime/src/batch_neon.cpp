@@ -1,7 +1,7 @@
 // The batch kernels built for aarch64 Advanced SIMD (NEON), 4 lanes. Every aarch64 CPU has it, so
 // instruction_set.cpp needs no detection for this set.
 #define DNG_LANES_NEON
-#include "step_lanes.h"
+#include "span_lanes.h"
 
 namespace dng {
 

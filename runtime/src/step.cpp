@@ -169,7 +169,7 @@ Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& mo
                const KeptSamples* kept) {
   Stop first;
   // The box segmentNearBounds tests, so the broadphase lists every body the test can pass (the lanes
-  // compute the same box: step_lanes.h).
+  // compute the same box: span_lanes.h).
   const Vec3f lo{minOf(start.x, end.x), minOf(start.y, end.y), minOf(start.z, end.z)};
   const Vec3f hi{maxOf(start.x, end.x), maxOf(start.y, end.y), maxOf(start.z, end.z)};
   near.forEach(lo, hi, BodyBox::kGrown, [&](std::size_t b) {

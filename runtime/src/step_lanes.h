@@ -1,13 +1,12 @@
-// Internal: stepParticles for a lane of particles at once, the common case only.
+// Internal: stepParticles' kernels for a lane of particles at once, the cases that only advance.
 //
-// Most particle-steps, even near a surface, are settled by the walk's first ball (walk.cpp): the
-// particle's own sample proves a ball around it clear, the ball holds the whole move, and the end
-// point proves itself outside with one more sample. Lanes do exactly that, with every operation the
-// scalar step.cpp and walk.cpp do in the same order, so a lane's result is bit for bit the scalar
-// one. A particle that needs anything more (a bounce off a plane during the move, a slide, a walk
-// through cells, a clip at the grid's edge) goes to the scalar path whole, from its original state.
-//
-// Include after sample_lanes.h.
+// Most particle-steps, even near a surface, are settled by the walk's balls (walk.cpp): the
+// particle's own sample proves a ball around it clear and the ball holds the whole move, or a second
+// ball around the end covers the rest. Most others are settled cell by cell, each cell's plane proving
+// the way to its wall. Lanes do exactly that, with every operation the scalar step.cpp and walk.cpp do
+// in the same order, so a lane's result is bit for bit the scalar one. A particle that needs anything
+// more (a bounce off a plane during the move, a slide, a neighbour bound) goes to the scalar path
+// whole, from its original state. span_lanes.h runs these kernels over a whole span.
 #pragma once
 
 #include "dng/responses.h"
@@ -201,13 +200,18 @@ DNG_LANE_INLINE F cellExit(const GridInfo& g, float inv_h, V3 a, V3 d, F t) {
   return exit;
 }
 
+/// Which of the walk's cases walkLanes tries: the balls (the first ball and the two-ball test), or the
+/// cells (the first ball, then cell by cell) for lanes whose balls could not prove them.
+enum class WalkPart { kBalls, kCells };
+
 // walkSegment (walk.cpp) through body `sb` for the lanes `near` it, from `a` (the start in the body's
 // start-of-step frame) to `end` (world), as far as its cases that only advance go: balls, the two-ball
-// test, cell planes that stay clear to the cell's wall, the end point's proof. Returns the lanes it
-// proves clear; every other near lane needs the scalar walk (a stop, a slide, a neighbour bound, a
-// clip at the grid's edge, a walk out of samples).
+// test, cell planes that stay clear to the cell's wall, the end point's proof (`part` says which).
+// Returns the lanes it proves clear; every other near lane needs another part or the scalar walk (a
+// stop, a slide, a neighbour bound, a clip at the grid's edge, a walk out of samples). Any subset of
+// walkSegment's cases proves only what walkSegment proves, so the parts give the scalar bits.
 DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, const LaneSample* kept, M kept_valid,
-                            M near) {
+                            M near, WalkPart part) {
   const View& field = *sb.field;
   const GridInfo& g = field.grid();
   const V3 delta = toLocal(sb.end, end) - a;
@@ -233,7 +237,7 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
   M active = andNot(near, clear);
   // Two balls, the start's and the end's (walk.cpp twoBallsClear), for the whole segment only.
   const M usable = active & (s.far_outside | s.in_band) & ~(t != zero) & ~(t_end != one);
-  if (any(usable)) {
+  if (part != WalkPart::kCells && any(usable)) {
     const LaneSample e = sampleBody(sb, a + delta, usable);
     const M end_proven = e.far_outside | e.no_field | (e.in_band & (e.distance >= proof));
     const F gap_start = minOf(reach, s.distance) - margin;
@@ -242,6 +246,7 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
     clear = clear | two;
     active = andNot(active, two);
   }
+  if (part == WalkPart::kBalls) return clear;
   const F nudge = splat(2e-3f * g.voxel_size) / len;
   for (int n = 0; n < max_samples && any(active); ++n) {
     const M arrived = active & (t >= t_end);
@@ -284,8 +289,10 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
   return clear | (active & (t >= t_end));
 }
 
-// The move's walks through the listed bodies, for the lanes `live`: the lanes every one proves clear.
-DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p, V3 end, const KeptLanes& kept) {
+// The move's walks through the listed bodies, for the lanes `live`: the lanes every one proves clear
+// by the walk's `part`. `kept`: the responses' samples, or null (the walks sample their starts).
+DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p, V3 end, const KeptLanes* kept,
+                            WalkPart part) {
   M done = live;
   for (std::size_t k = 0; k < list.count && any(done); ++k) {
     const StepBody& sb = *list.body[k];
@@ -296,126 +303,13 @@ DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p
     // The response kept the start's local position and sample where the body's box held the particle
     // (none kept: valid is all false, and sample and local were never written).
     const std::int32_t r = list.kept[k];
-    const bool has_kept = r >= 0 && any(kept.valid[r]);
-    const M kept_valid = has_kept ? kept.valid[r] : andNot(live, live);
-    const V3 a = has_kept ? kept.local[r] : toLocal(sb.start, p.position);
-    done = done & walkLanes(sb, walkSamples(material), a, end, has_kept ? &kept.sample[r] : nullptr, kept_valid, near);
+    const bool has_kept = kept != nullptr && r >= 0 && any(kept->valid[r]);
+    const M kept_valid = has_kept ? kept->valid[r] : andNot(live, live);
+    const V3 a = has_kept ? kept->local[r] : toLocal(sb.start, p.position);
+    done = done &
+           walkLanes(sb, walkSamples(material), a, end, has_kept ? &kept->sample[r] : nullptr, kept_valid, near, part);
   }
   return done;
-}
-
-// Strided or packed particle arrays, lane by lane.
-struct Lanes3 {
-  alignas(32) float x[kWidth], y[kWidth], z[kWidth];
-};
-
-DNG_LANE_INLINE V3 loadLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n) {
-  if (stride == sizeof(float)) return {load(x + n), load(y + n), load(z + n)};
-  Lanes3 l;
-  for (int lane = 0; lane < kWidth; ++lane) {
-    const std::size_t i = n + std::size_t(lane);
-    l.x[lane] = strided(x, stride, i), l.y[lane] = strided(y, stride, i), l.z[lane] = strided(z, stride, i);
-  }
-  return {load(l.x), load(l.y), load(l.z)};
-}
-
-DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n, V3 v, unsigned on) {
-  if (stride == sizeof(float)) { // packed: whole registers, lanes left to the scalar path keep their bytes
-    const M m = laneMask(on);
-    store(x + n, select(m, v.x, load(x + n)));
-    store(y + n, select(m, v.y, load(y + n)));
-    store(z + n, select(m, v.z, load(z + n)));
-    return;
-  }
-  Lanes3 l;
-  store(l.x, v.x), store(l.y, v.y), store(l.z, v.z);
-  for (int lane = 0; lane < kWidth; ++lane) {
-    if (!((on >> lane) & 1u)) continue;
-    const std::size_t i = n + std::size_t(lane);
-    strided(x, stride, i) = l.x[lane], strided(y, stride, i) = l.y[lane], strided(z, stride, i) = l.z[lane];
-  }
-}
-
-// The optional per-particle outputs of the lanes in `on`.
-DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch, unsigned on) {
-  if (s.out_contact == nullptr && s.out_body == nullptr) return;
-  alignas(32) std::int32_t body[kWidth];
-  std::memcpy(body, &touch, sizeof body);
-  for (int lane = 0; lane < kWidth; ++lane) {
-    if (!((on >> lane) & 1u)) continue;
-    const std::size_t i = n + std::size_t(lane);
-    if (s.out_contact != nullptr) s.out_contact[i] = body[lane] >= 0 ? 1 : 0;
-    if (s.out_body != nullptr) s.out_body[i] = body[lane];
-  }
-}
-
-// A chunk's bodies, every body or those the broadphase has near its lanes (near_lanes.h): the responses'
-// (the positions, against the bodies' boxes) and the moves' (the moves' boxes, against the grown boxes).
-struct ChunkBodies {
-  NearList responses, moves;
-  V3 lo, hi; // the move boxes `moves` was listed for, from the velocities before the responses
-};
-
-DNG_LANE_INLINE void moveBox(V3 a, V3 e, V3* lo, V3* hi) {
-  *lo = V3{minOf(a.x, e.x), minOf(a.y, e.y), minOf(a.z, e.z)};
-  *hi = V3{maxOf(a.x, e.x), maxOf(a.y, e.y), maxOf(a.z, e.z)};
-}
-
-// The responses' bodies, and in the same cell walk the moves' for the velocities as they are (most
-// responses change none). Lanes whose bodies do not all fit leave *io_live.
-DNG_LANE_INLINE const NearList& chunkResponses(const StepBatch& batch, const LaneParticles& p, ChunkBodies* io,
-                                               M* io_live) {
-  if (batch.index == nullptr) return *batch.all;
-  moveBox(p.position, p.position + p.velocity * splat(batch.dt), &io->lo, &io->hi);
-  io->responses.count = io->moves.count = 0;
-  *io_live = listNear(*batch.index, {io->lo, io->hi, p.position, &io->moves, &io->responses}, *io_live);
-  prepareListed(batch, nullptr, &io->responses);
-  return io->responses;
-}
-
-// The moves' bodies, start -> end: listed again for the lanes whose move boxes the responses changed
-// (the bodies their old boxes met stay listed; the lanes' own tests pass them by).
-DNG_LANE_INLINE const NearList& chunkMoves(const StepBatch& batch, V3 start, V3 end, ChunkBodies* io, M* io_live) {
-  if (batch.index == nullptr) return *batch.all;
-  V3 lo, hi;
-  moveBox(start, end, &lo, &hi);
-  const M moved = *io_live & ((lo.x != io->lo.x) | (lo.y != io->lo.y) | (lo.z != io->lo.z) | (hi.x != io->hi.x) |
-                              (hi.y != io->hi.y) | (hi.z != io->hi.z));
-  if (any(moved))
-    *io_live = andNot(*io_live, moved) | listNear(*batch.index, {lo, hi, start, &io->moves, nullptr}, moved);
-  prepareListed(batch, &io->responses, &io->moves);
-  return io->moves;
-}
-
-/// stepParticles over the whole span: lanes for what one ball settles, the scalar path for the rest
-/// and for the tail.
-inline void stepLanes(const StepBatch& batch) {
-  const ParticleSpan& s = *batch.particles;
-  const F dt = splat(batch.dt);
-  const unsigned every_lane = (1u << kWidth) - 1;
-  ChunkBodies near; // the broadphase's lists, refilled per chunk
-  std::size_t n = 0;
-  for (; n + kWidth <= s.count; n += kWidth) {
-    LaneParticles p{loadLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n),
-                    loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
-    M live = allTrue();
-    const NearList& respond = chunkResponses(batch, p, &near, &live);
-    I touch = splatI(-1);
-    KeptLanes kept;
-    respondLanes(batch, respond, live, &p, &touch, &kept);
-    const V3 end = p.position + p.velocity * dt;
-    const NearList& walk = chunkMoves(batch, p.position, end, &near, &live);
-    const unsigned done = bits(moveLanes(walk, live, p, end, kept));
-    storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, end, done);
-    storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, done);
-    storeTouches(s, n, touch, done);
-    const unsigned rest = done ^ every_lane;
-    for (int lane = 0; lane < kWidth; ++lane) {
-      if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
-    }
-  }
-  for (; n < s.count; ++n)
-    batch.scalar(batch.context, n);
 }
 
 } // namespace DNG_LANES_NS

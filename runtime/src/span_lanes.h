@@ -1,0 +1,237 @@
+// Internal: stepParticles over a whole span in lanes: loading and storing chunks of particles
+// (packed or strided), finding each chunk's bodies, and the order the work is done in. The per-chunk
+// kernels are step_lanes.h's.
+//
+// Each batch translation unit includes this one.
+#pragma once
+
+#include "step_lanes.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace dng {
+namespace lanes {
+namespace DNG_LANES_NS {
+
+// Strided or packed particle arrays, lane by lane.
+struct Lanes3 {
+  alignas(32) float x[kWidth], y[kWidth], z[kWidth];
+};
+
+DNG_LANE_INLINE V3 loadLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n) {
+  if (stride == sizeof(float)) return {load(x + n), load(y + n), load(z + n)};
+  Lanes3 l;
+  for (int lane = 0; lane < kWidth; ++lane) {
+    const std::size_t i = n + std::size_t(lane);
+    l.x[lane] = strided(x, stride, i), l.y[lane] = strided(y, stride, i), l.z[lane] = strided(z, stride, i);
+  }
+  return {load(l.x), load(l.y), load(l.z)};
+}
+
+DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n, V3 v, unsigned on) {
+  if (stride == sizeof(float)) { // packed: whole registers, lanes left to the scalar path keep their bytes
+    const M m = laneMask(on);
+    store(x + n, select(m, v.x, load(x + n)));
+    store(y + n, select(m, v.y, load(y + n)));
+    store(z + n, select(m, v.z, load(z + n)));
+    return;
+  }
+  Lanes3 l;
+  store(l.x, v.x), store(l.y, v.y), store(l.z, v.z);
+  for (int lane = 0; lane < kWidth; ++lane) {
+    if (!((on >> lane) & 1u)) continue;
+    const std::size_t i = n + std::size_t(lane);
+    strided(x, stride, i) = l.x[lane], strided(y, stride, i) = l.y[lane], strided(z, stride, i) = l.z[lane];
+  }
+}
+
+// The optional per-particle outputs of the lanes in `on`.
+DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch, unsigned on) {
+  if (s.out_contact == nullptr && s.out_body == nullptr) return;
+  alignas(32) std::int32_t body[kWidth];
+  std::memcpy(body, &touch, sizeof body);
+  for (int lane = 0; lane < kWidth; ++lane) {
+    if (!((on >> lane) & 1u)) continue;
+    const std::size_t i = n + std::size_t(lane);
+    if (s.out_contact != nullptr) s.out_contact[i] = body[lane] >= 0 ? 1 : 0;
+    if (s.out_body != nullptr) s.out_body[i] = body[lane];
+  }
+}
+
+// A chunk's bodies, every body or those the broadphase has near its lanes (near_lanes.h): the responses'
+// (the positions, against the bodies' boxes) and the moves' (the moves' boxes, against the grown boxes).
+struct ChunkBodies {
+  NearList responses, moves;
+  V3 lo, hi; // the move boxes `moves` was listed for, from the velocities before the responses
+};
+
+DNG_LANE_INLINE void moveBox(V3 a, V3 e, V3* lo, V3* hi) {
+  *lo = V3{minOf(a.x, e.x), minOf(a.y, e.y), minOf(a.z, e.z)};
+  *hi = V3{maxOf(a.x, e.x), maxOf(a.y, e.y), maxOf(a.z, e.z)};
+}
+
+// The responses' bodies, and in the same cell walk the moves' for the velocities as they are (most
+// responses change none). Lanes whose bodies do not all fit leave *io_live.
+DNG_LANE_INLINE const NearList& chunkResponses(const StepBatch& batch, const LaneParticles& p, ChunkBodies* io,
+                                               M* io_live) {
+  if (batch.index == nullptr) return *batch.all;
+  moveBox(p.position, p.position + p.velocity * splat(batch.dt), &io->lo, &io->hi);
+  io->responses.count = io->moves.count = 0;
+  *io_live = listNear(*batch.index, {io->lo, io->hi, p.position, &io->moves, &io->responses}, *io_live);
+  prepareListed(batch, nullptr, &io->responses);
+  return io->responses;
+}
+
+// The moves' bodies, start -> end: listed again for the lanes whose move boxes the responses changed
+// (the bodies their old boxes met stay listed; the lanes' own tests pass them by).
+DNG_LANE_INLINE const NearList& chunkMoves(const StepBatch& batch, V3 start, V3 end, ChunkBodies* io, M* io_live) {
+  if (batch.index == nullptr) return *batch.all;
+  V3 lo, hi;
+  moveBox(start, end, &lo, &hi);
+  const M moved = *io_live & ((lo.x != io->lo.x) | (lo.y != io->lo.y) | (lo.z != io->lo.z) | (hi.x != io->hi.x) |
+                              (hi.y != io->hi.y) | (hi.z != io->hi.z));
+  if (any(moved))
+    *io_live = andNot(*io_live, moved) | listNear(*batch.index, {lo, hi, start, &io->moves, nullptr}, moved);
+  prepareListed(batch, &io->responses, &io->moves);
+  return io->moves;
+}
+
+// Particles whose walks need cells, set aside while the chunks go on and walked cell by cell 8 (or 4)
+// at a time. A chunk's walk through cells runs every lane for as long as its slowest one needs, and
+// near a surface most chunks have one or two such particles: gathered, every walk in a chunk is one
+// that needs it. Nothing else differs: each lane still gives the scalar path's bits, or goes to it.
+struct Deferred {
+  static constexpr std::size_t kCapacity = 128; // on the stack (3 KB): stepParticles allocates nothing
+  std::size_t count = 0;
+  std::size_t index[kCapacity];
+  // The velocities after the responses and the touched bodies, padded to whole registers.
+  alignas(32) float vx[kCapacity + kWidth], vy[kCapacity + kWidth], vz[kCapacity + kWidth];
+  alignas(32) std::int32_t touch[kCapacity + kWidth];
+
+  bool full() const { return count + std::size_t(kWidth) > kCapacity; }
+
+  // Adds the lanes `on` of chunk n, with their velocities and touches.
+  void add(std::size_t n, V3 velocity, I touched, unsigned on) {
+    Lanes3 v;
+    alignas(32) std::int32_t t[kWidth];
+    store(v.x, velocity.x), store(v.y, velocity.y), store(v.z, velocity.z);
+    std::memcpy(t, &touched, sizeof t);
+    for (; on != 0; on &= on - 1) {
+      const int lane = __builtin_ctz(on);
+      index[count] = n + std::size_t(lane);
+      vx[count] = v.x[lane], vy[count] = v.y[lane], vz[count] = v.z[lane], touch[count] = t[lane];
+      ++count;
+    }
+  }
+};
+
+// The particles' positions at the indices `index` (lanes past `lanes` repeat the first).
+DNG_LANE_INLINE V3 gatherPositions(const ParticleSpan& s, const std::size_t* index, int lanes) {
+  Lanes3 l;
+  for (int lane = 0; lane < kWidth; ++lane) {
+    const std::size_t i = index[lane < lanes ? lane : 0];
+    l.x[lane] = strided(s.position_x, s.position_stride, i);
+    l.y[lane] = strided(s.position_y, s.position_stride, i);
+    l.z[lane] = strided(s.position_z, s.position_stride, i);
+  }
+  return {load(l.x), load(l.y), load(l.z)};
+}
+
+// Writes the lanes `on`: position, velocity and the optional outputs of the particle at index[lane].
+DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* index, V3 position, const Deferred& d,
+                                  std::size_t from, unsigned on) {
+  Lanes3 p;
+  store(p.x, position.x), store(p.y, position.y), store(p.z, position.z);
+  for (; on != 0; on &= on - 1) {
+    const int lane = __builtin_ctz(on);
+    const std::size_t i = index[lane], k = from + std::size_t(lane);
+    strided(s.position_x, s.position_stride, i) = p.x[lane];
+    strided(s.position_y, s.position_stride, i) = p.y[lane];
+    strided(s.position_z, s.position_stride, i) = p.z[lane];
+    strided(s.velocity_x, s.velocity_stride, i) = d.vx[k];
+    strided(s.velocity_y, s.velocity_stride, i) = d.vy[k];
+    strided(s.velocity_z, s.velocity_stride, i) = d.vz[k];
+    if (s.out_contact != nullptr) s.out_contact[i] = d.touch[k] >= 0 ? 1 : 0;
+    if (s.out_body != nullptr) s.out_body[i] = d.touch[k];
+  }
+}
+
+// Walks the set-aside particles' moves through every body cell by cell (their balls could not prove
+// them) and finishes them: the lanes proven clear move, the rest go to the scalar path whole. The
+// responses already acted (their velocities are kept); the walks sample their starts again (the same
+// numbers as the responses' samples).
+DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
+  if (io->count == 0) return;
+  const ParticleSpan& s = *batch.particles;
+  // Whole registers: the last chunk's empty lanes repeat its first particle's numbers (and stay off).
+  const std::size_t last = (io->count - 1) / std::size_t(kWidth) * std::size_t(kWidth);
+  for (std::size_t k = io->count; k < last + std::size_t(kWidth); ++k)
+    io->vx[k] = io->vx[last], io->vy[k] = io->vy[last], io->vz[k] = io->vz[last], io->touch[k] = io->touch[last];
+  NearList listed; // with a broadphase: the bodies of the gathered lanes' moves
+  for (std::size_t from = 0; from < io->count; from += std::size_t(kWidth)) {
+    const int lanes = int(std::min(io->count - from, std::size_t(kWidth)));
+    const std::size_t* index = io->index + from;
+    const LaneParticles p{gatherPositions(s, index, lanes),
+                          {load(io->vx + from), load(io->vy + from), load(io->vz + from)}};
+    const V3 end = p.position + p.velocity * splat(batch.dt);
+    const unsigned on = (1u << lanes) - 1;
+    M live = laneMask(on);
+    const NearList* bodies = batch.all;
+    if (batch.index != nullptr) {
+      V3 lo, hi;
+      moveBox(p.position, end, &lo, &hi);
+      listed.count = 0;
+      live = listNear(*batch.index, {lo, hi, p.position, &listed, nullptr}, live);
+      prepareListed(batch, nullptr, &listed);
+      bodies = &listed;
+    }
+    const unsigned done = bits(live & moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
+    scatterLanes(s, index, end, *io, from, done);
+    for (unsigned rest = on & ~done; rest != 0; rest &= rest - 1)
+      batch.scalar(batch.context, index[__builtin_ctz(rest)]);
+  }
+  io->count = 0;
+}
+
+/// stepParticles over the whole span: lanes for what balls and cells settle, the scalar path for the
+/// rest and for the tail.
+inline void stepLanes(const StepBatch& batch) {
+  const ParticleSpan& s = *batch.particles;
+  const F dt = splat(batch.dt);
+  const unsigned every_lane = (1u << kWidth) - 1;
+  ChunkBodies near; // the broadphase's lists, refilled per chunk
+  Deferred deferred;
+  std::size_t n = 0;
+  for (; n + kWidth <= s.count; n += kWidth) {
+    LaneParticles p{loadLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n),
+                    loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
+    M live = allTrue();
+    const NearList& respond = chunkResponses(batch, p, &near, &live);
+    I touch = splatI(-1);
+    KeptLanes kept;
+    respondLanes(batch, respond, live, &p, &touch, &kept);
+    const V3 end = p.position + p.velocity * dt;
+    const NearList& walk = chunkMoves(batch, p.position, end, &near, &live);
+    const unsigned done = bits(moveLanes(walk, live, p, end, &kept, WalkPart::kBalls));
+    storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, end, done);
+    storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, done);
+    storeTouches(s, n, touch, done);
+    const unsigned later = bits(live) & ~done; // their walks need cells
+    if (later != 0) {
+      if (deferred.full()) finishDeferred(batch, &deferred);
+      deferred.add(n, p.velocity, touch, later);
+    }
+    const unsigned rest = every_lane & ~done & ~later; // lanes whose bodies the lists could not hold
+    for (int lane = 0; lane < kWidth; ++lane) {
+      if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
+    }
+  }
+  finishDeferred(batch, &deferred);
+  for (; n < s.count; ++n)
+    batch.scalar(batch.context, n);
+}
+
+} // namespace DNG_LANES_NS
+} // namespace lanes
+} // namespace dng
