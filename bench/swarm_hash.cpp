@@ -6,18 +6,19 @@
 // is a quick A/B between two builds run in turn. Its fixed load is also a steady target for profilers
 // (perf, callgrind) without the bake that table1_bench does first.
 //
-//   swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--swept]
+//   swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--speed V] [--swept]
 //              [--isa scalar|sse4.1|avx2|neon]
 //
 // The swarm: points drawn uniformly in the field's box, kept where the field reads 0 (or --near V
-// voxels) to 2 voxels outside, with random velocities up to 1.5 voxels per step on each axis, gravity of 0.02 voxel per
-// step squared, impact (beta 0.5) with drag and flow as in table1_bench. With --lifetime N every
-// particle goes back to its spawn state after N steps (a 1/N slice each step, as table1_bench
-// respawns), so the swarm stays near the surface; without it the swarm spreads out and most late steps
-// are far from it. `--lifetime 8 --near 0.1` is close to Table 1's load (spawned 0.1 to 2 voxels out,
-// 8 steps each): a point spawned where the field reads below a hundredth of a voxel is one the field
-// cannot prove outside, and stays where it is (docs/RUNTIME.md, "Limits"). Exit codes: 0 done, 1 bad
-// arguments or unreadable field, 2 a step failed.
+// voxels) to 2 voxels outside, with random velocities up to 1.5 (or --speed V) voxels per step on each
+// axis, gravity of 0.02 voxel per step squared, impact (beta 0.5) with drag and flow as in
+// table1_bench. With --lifetime N every particle goes back to its spawn state after N steps (a 1/N
+// slice each step, as table1_bench respawns), so the swarm stays near the surface; without it the
+// swarm spreads out and most late steps are far from it. `--lifetime 8 --near 0.1 --speed 0.6` is
+// close to Table 1's load (spawned 0.1 to 2 voxels out, 8 steps each, about half a voxel per step).
+// A point spawned where the field reads below a hundredth of a voxel is one the field cannot prove
+// outside, and stays where it is (docs/RUNTIME.md, "Limits"). Exit codes: 0 done, 1 bad arguments or
+// unreadable field, 2 a step failed.
 #include "dng/body.h"
 #include "dng/file.h"
 #include "dng/instruction_set.h"
@@ -42,8 +43,9 @@ struct Options {
   const char* field = nullptr;
   std::size_t particles = 200000;
   int steps = 40;
-  int lifetime = 0;  ///< 0: never respawn
-  float near = 0.0f; ///< spawn where the field reads at least this many voxels
+  int lifetime = 0;   ///< 0: never respawn
+  float near = 0.0f;  ///< spawn where the field reads at least this many voxels
+  float speed = 1.5f; ///< voxels per step, the most on each axis
   bool swept = false;
   InstructionSet isa = bestInstructionSet();
 };
@@ -71,6 +73,8 @@ bool parse(int argc, char** argv, Options* out) {
       out->lifetime = std::atoi(argv[++i]);
     } else if (arg == "--near" && has_value) {
       out->near = std::strtof(argv[++i], nullptr);
+    } else if (arg == "--speed" && has_value) {
+      out->speed = std::strtof(argv[++i], nullptr);
     } else if (arg == "--swept") {
       out->swept = true;
     } else if (arg == "--isa" && has_value) {
@@ -82,7 +86,7 @@ bool parse(int argc, char** argv, Options* out) {
     }
   }
   return out->field != nullptr && out->particles > 0 && out->steps > 0 && out->lifetime >= 0 && out->near >= 0.0f &&
-         out->near < 2.0f;
+         out->near < 2.0f && out->speed >= 0.0f;
 }
 
 struct Swarm {
@@ -98,9 +102,9 @@ struct Swarm {
   }
 };
 
-Swarm spawn(const View& view, std::size_t count, float near) {
+Swarm spawn(const View& view, std::size_t count, float near, float voxels_per_step) {
   const GridInfo& g = view.grid();
-  const float h = g.voxel_size, speed = 1.5f * h / kDt;
+  const float h = g.voxel_size, speed = voxels_per_step * h / kDt;
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f), signed_unit(-1.0f, 1.0f);
   Swarm s;
@@ -156,8 +160,10 @@ double threadSeconds() {
 int main(int argc, char** argv) {
   Options options;
   if (!parse(argc, argv, &options)) {
-    std::fprintf(stderr, "usage: swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--swept] "
-                         "[--isa scalar|sse4.1|avx2|neon]\n");
+    std::fprintf(
+        stderr,
+        "usage: swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--speed V] [--swept] "
+        "[--isa scalar|sse4.1|avx2|neon]\n");
     return 1;
   }
   Diagnostic diag;
@@ -177,7 +183,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "swarm_hash: %s\n", diag.message);
     return 1;
   }
-  const Swarm born = spawn(view, options.particles, options.near);
+  const Swarm born = spawn(view, options.particles, options.near, options.speed);
   Swarm swarm = born;
   Hash hash;
   double seconds = 0.0;
