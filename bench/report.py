@@ -196,19 +196,19 @@ def table1_section(path, table_mesh="fandisk"):
               "Embree's best and %.1fx the no-collision loop. Exact normals make tighter planes beside sharp edges, "
               "so fewer particles need the walk's neighbour bound; the blurred modes give smoother normals for "
               "drag and flow (docs/BAKING.md)." % (exact, best["ns"] / exact, exact / r("plain")))
-    print("\n*Where the time goes* (a profile, not part of this run: `perf record -e cpu-clock` on this bench, and "
-          "callgrind on `bench/swarm_hash` with 20,000 particles near `fandisk.off`, 20 steps: about 410 instructions "
-          "per particle-step). Every particle here stays within 2 voxels of the surface, so almost none is settled "
-          "by its first sample: the lanes take two samples per particle (start and end, the two-ball test) and "
-          "settle 98.4% of the particle-steps at about 275 instructions each. The other 1.6% are handed to the "
-          "scalar walk and take a third of the instructions, about 8,400 each: they sit beside sharp edges, where "
-          "a cell's plane reads below zero outside the surface (the plane of the other face), and the walk needs "
-          "its neighbour bound, 26 samples (about 1,600 instructions, taken in lanes), 2.5 times per walk on "
-          "average. Most of those particles slide along an edge closer than a voxel, where each bound's ball "
-          "proves only a sliver of room; sliding the best neighbour's plane along with the particle cut the "
-          "bounds per walk from 3.5 and the step's instructions by 10%. What Embree pays for a short segment near "
-          "a 12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample, and this "
-          "scene needs several samples per particle-step.")
+    print("\n*Where the time goes* (a profile, not part of this run: callgrind on `bench/swarm_hash --lifetime 8 "
+          "--near 0.1 --speed 0.6`, a swarm kept near `fandisk.off` as this one is, 20,000 particles, 16 steps: "
+          "about 380 instructions per particle-step). Every particle here stays within 2 voxels of the surface, so "
+          "almost none is settled by its first sample alone. The responses (a sample and the rules) take 26% of "
+          "the instructions; the balls (the end's sample and the two-ball test) 27%; the walks that need cells, set "
+          "aside and walked together a register at a time, 6%; loading, storing and bookkeeping 11%. The other "
+          "27% go to 1.4% of the particle-steps, handed to the scalar walk at about 7,500 instructions each: 98% "
+          "of them are cramped beside sharp edges, where the own cell's plane reads below the margin outside the "
+          "surface (the plane of the other face, tilted further by the blurred normal), not stopped by the "
+          "surface, and the walk needs its neighbour bound, 26 samples (about 1,700 instructions, taken in lanes), "
+          "2.2 times per walk on average. An exact-mode bake hands over 4.2 times fewer. What Embree pays for a short "
+          "segment near a 12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample, "
+          "and this scene needs at least two samples per particle-step.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
     sweep_n = min(n for (m, n, _) in rows if m != table_mesh) if any(m != table_mesh for (m, _, _) in rows) else n
