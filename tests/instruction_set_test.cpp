@@ -121,7 +121,8 @@ std::vector<float> queryPoints(std::size_t count) {
 TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
   const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
   const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
-  const std::vector<float> points = queryPoints(20003); // not a multiple of any lane count: tails too
+  // 20,015 = 16 k + 8 + 7 = 8 k + 4 + 3: pairs of registers, one register alone and a tail, at 8 and 4 lanes.
+  const std::vector<float> points = queryPoints(20015);
   const std::size_t count = points.size() / 4;
   for (const AnalyticField* shape : {&box, &sphere}) {
     for (bool dense : {false, true}) {
