@@ -384,8 +384,9 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     print("\n**Goal (issue #2): bricked nearest, coherent points, at most %.0f ns per query. Measured: %.1f ns, %s.**"
           % (goal_ns, got, "reached" if got <= goal_ns else "not reached"))
     if got > goal_ns:
-        print("The batch runs in SIMD lanes (8 points per AVX2 instruction); what is left per point is the two "
-              "dependent gathers (brick-top entry, then pool word) and the writing of 20-byte `Sample`s.")
+        print("The batch runs in SIMD lanes (8 points per AVX2 instruction), two registers of points at a time so "
+              "that two chains of dependent gathers (brick-top entry, then pool word) overlap; what is left per "
+              "point is those gathers, the normal's decode and the writing of 20-byte `Sample`s.")
 
 
     if step_path:
