@@ -53,9 +53,7 @@ DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch,
   std::memcpy(body, &touch, sizeof body);
   for (int lane = 0; lane < kWidth; ++lane) {
     if (!((on >> lane) & 1u)) continue;
-    const std::size_t i = n + std::size_t(lane);
-    if (s.out_contact != nullptr) s.out_contact[i] = body[lane] >= 0 ? 1 : 0;
-    if (s.out_body != nullptr) s.out_body[i] = body[lane];
+    writeTouch(s, n + std::size_t(lane), body[lane]);
   }
 }
 
@@ -152,8 +150,7 @@ DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* inde
     strided(s.velocity_x, s.velocity_stride, i) = d.vx[k];
     strided(s.velocity_y, s.velocity_stride, i) = d.vy[k];
     strided(s.velocity_z, s.velocity_stride, i) = d.vz[k];
-    if (s.out_contact != nullptr) s.out_contact[i] = d.touch[k] >= 0 ? 1 : 0;
-    if (s.out_body != nullptr) s.out_body[i] = d.touch[k];
+    writeTouch(s, i, d.touch[k]);
   }
 }
 
@@ -186,7 +183,7 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
       prepareListed(batch, nullptr, &listed);
       bodies = &listed;
     }
-    const unsigned done = bits(live & moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
+    const unsigned done = bits(moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
     scatterLanes(s, index, end, *io, from, done);
     for (unsigned rest = on & ~done; rest != 0; rest &= rest - 1)
       batch.scalar(batch.context, index[__builtin_ctz(rest)]);
@@ -222,7 +219,7 @@ inline void stepLanes(const StepBatch& batch) {
       if (deferred.full()) finishDeferred(batch, &deferred);
       deferred.add(n, p.velocity, touch, later);
     }
-    const unsigned rest = every_lane & ~done & ~later; // lanes whose bodies the lists could not hold
+    const unsigned rest = every_lane & ~bits(live); // lanes whose bodies the lists could not hold
     for (int lane = 0; lane < kWidth; ++lane) {
       if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
     }

@@ -266,8 +266,7 @@ void stepOne(const void* context, std::size_t n) {
                      [&](std::size_t b) { respondToBody(step.bodies[b], b, step.dt, &state, &touch, &kept); });
   move(step.bodies, *step.near, *step.motions, step.dt, kept, &state, &touch);
   store(particles, n, state);
-  if (particles.out_contact != nullptr) particles.out_contact[n] = touch.body >= 0 ? 1 : 0;
-  if (particles.out_body != nullptr) particles.out_body[n] = touch.body;
+  writeTouch(particles, n, touch.body);
 }
 
 // The batch kernels take up to kMaxBatchBodies bodies, or any number through an index, whose fields
@@ -339,8 +338,7 @@ Status step(const ParticleSpan& particles, float dt, const Body* bodies, std::si
       ParticleState state = load(particles, n);
       state.position = state.position + state.velocity * dt;
       store(particles, n, state);
-      if (particles.out_contact != nullptr) particles.out_contact[n] = 0;
-      if (particles.out_body != nullptr) particles.out_body[n] = -1;
+      writeTouch(particles, n, -1);
     }
     return Status::kOk;
   }

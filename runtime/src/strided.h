@@ -1,13 +1,23 @@
 // Internal: element n of a caller's strided float array (dng::ParticleSpan counts strides in bytes, so
-// the same code reads packed structure-of-arrays and array-of-structures particles).
+// the same code reads packed structure-of-arrays and array-of-structures particles), and a particle's
+// optional outputs.
 #pragma once
 
+#include "dng/particles.h"
+
 #include <cstddef>
+#include <cstdint>
 
 namespace dng {
 
 inline float& strided(float* base, std::size_t stride_bytes, std::size_t n) {
   return *reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride_bytes);
+}
+
+/// Particle n's optional outputs: the body that acted on or blocked it (-1: none), and whether one did.
+inline void writeTouch(const ParticleSpan& s, std::size_t n, std::int32_t body) {
+  if (s.out_contact != nullptr) s.out_contact[n] = body >= 0 ? 1 : 0;
+  if (s.out_body != nullptr) s.out_body[n] = body;
 }
 
 } // namespace dng
