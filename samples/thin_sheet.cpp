@@ -1,14 +1,16 @@
 // A thin open sheet, such as Debian's blade.off, has no inside: only a field baked in potential mode
-// (paper §3.1, method 2) pushes particles away on both sides. This sample fires particles at the sheet
-// from both sides, from inside its band, and counts those that got through.
+// (paper §3.1, method 2) has normals that push particles away on both sides. This sample fires
+// particles at the sheet from both sides, from inside its band, and counts those that got through.
 //
 //   dngbake blade.off -o blade.dng --mode potential
 //   dng_thin_sheet blade.dng [OUTPUT_FOLDER] [--particles N] [--no-pictures]
 //
 // Writes OUTPUT_FOLDER/thin_sheet_side.png and _top.png and prints two JSON lines: the run's statistics,
 // and how many particles crossed. Exits 1 if one crossed or ended inside by the field (2 when the file
-// cannot be read). On a field baked with normal-blur (method 1) particles do cross: the paper's
-// "works towards one direction" only. Units: the sheet's own; 60 steps per second.
+// cannot be read). A normal-blur bake (method 1) stops them too: its normals point one way ("works
+// towards one direction"), but its planes are the distance's own (format 1.3). A field whose planes
+// all face one way lets them through (tests/samples_test.cpp). Units: the sheet's own; 60 steps per
+// second.
 #include "sample_io.h"
 
 #include "dng/file.h"

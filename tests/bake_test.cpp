@@ -426,12 +426,13 @@ TEST_F(BakeTest, WithoutTheLiftOnlyTheAccurateQueryChanges) {
   EXPECT_GT(raised, 1000u);
 }
 
-// The blurred modes keep the distance's own gradient (GRAD) beside their normals, so their accurate
-// query is as close to the triangles as the exact mode's; exact files and --no-lift ones have none.
-TEST_F(BakeTest, BlurredModesCarryTheGradientForAccurateQueries) {
+// The blurred modes store the exact mode's planes and their own normals beside them (SHAD, format
+// 1.3): their distances are the exact bake's, their queries' normals are not, and their accurate query
+// is as close to the triangles as the exact mode's. Exact files have no SHAD; --no-lift keeps it.
+TEST_F(BakeTest, BlurredModesKeepTheExactPlanesAndShadeWithTheirNormals) {
   const Mesh torus = testing::torusMesh({0, 0, 0}, 1.0f, 0.35f, 32, 16);
   const File exact = bakeMesh(torus, "exact", exactOptions());
-  EXPECT_FALSE(exact.view().hasGradient());
+  EXPECT_FALSE(exact.view().hasShading());
   const float h = exact.view().grid().voxel_size;
   const std::vector<Vec3f> points = [&] {
     std::vector<Vec3f> near;
@@ -456,12 +457,24 @@ TEST_F(BakeTest, BlurredModesCarryTheGradientForAccurateQueries) {
     BakeOptions options = exactOptions();
     options.mode = mode;
     const File blurred = bakeMesh(torus, normalModeName(mode), options);
-    EXPECT_TRUE(blurred.view().hasGradient());
+    EXPECT_TRUE(blurred.view().hasShading());
+    EXPECT_FALSE(blurred.view().hasGradient()); // the planes' normals are the gradient
     // The same as the exact mode's: measured 0.0743 voxel against 0.0741. Through the blurred normals
-    // instead it was 0.064 (normal-blur) and 0.140 (potential).
+    // it was 0.064 (normal-blur) and 0.140 (potential).
     EXPECT_NEAR(worst(blurred.view()), exact_error, 0.003f);
+    int tilted = 0;
+    for (const Vec3f& p : points) {
+      const Sample a = blurred.view().sample(p), b = exact.view().sample(p);
+      ASSERT_EQ(a.status, b.status);
+      // Plane tiles may differ (a blurred one must fit the shading normals too), within the tolerance.
+      ASSERT_NEAR(a.distance, b.distance, 0.03f * h);
+      tilted += analytic::angleDegrees(a.normal, b.normal) > 2.0f ? 1 : 0;
+    }
+    EXPECT_GT(tilted, int(points.size()) / 10) << "the blurred normals are what the queries answer";
     options.lift = false;
-    EXPECT_FALSE(bakeMesh(torus, "plain", options).view().hasGradient());
+    const File plain = bakeMesh(torus, "plain", options);
+    EXPECT_TRUE(plain.view().hasShading());
+    EXPECT_FALSE(plain.view().hasLift());
   }
 }
 

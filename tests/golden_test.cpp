@@ -34,20 +34,25 @@ TEST(Golden, DensePlane) { compareWithGolden("dense_plane.dng", testing::smallDe
 TEST(Golden, BrickedBox) { compareWithGolden("bricked_box.dng", testing::smallBrickedBox()); }
 TEST(Golden, BrickedBoxLifted) { compareWithGolden("bricked_box_lifted.dng", testing::smallBrickedBoxLifted()); }
 TEST(Golden, BrickedBoxGraded) { compareWithGolden("bricked_box_graded.dng", testing::smallBrickedBoxGraded()); }
+TEST(Golden, BrickedBoxShaded) { compareWithGolden("bricked_box_shaded.dng", testing::smallBrickedBoxShaded()); }
 
-// Files the 1.1 writer made (kept in golden/v1_1) still open, and read exactly as the same fields
-// written by this writer: 1.2 only added the optional LIFT section, which these fields have none of.
-TEST(Golden, Version11FilesReadAsBefore) {
-  for (const char* name : {"dense_plane.dng", "bricked_box.dng"}) {
+// Files an older writer made (kept in golden/v1_<minor>) still open, and read exactly as the same
+// fields written by this writer: 1.2 added optional sections (LIFT, GRAD) and 1.3 another (SHAD), so
+// the bytes of a field that has none of the newer ones differ only in the version.
+void expectOldFilesReadAsBefore(int minor, std::initializer_list<const char*> names) {
+  for (const char* name : names) {
     SCOPED_TRACE(name);
-    const std::vector<std::uint8_t> old_bytes = testing::readFileBytes(testing::goldenPath("v1_1/") + name);
+    const std::string folder = "v1_" + std::to_string(minor) + "/";
+    const std::vector<std::uint8_t> old_bytes = testing::readFileBytes(testing::goldenPath(folder.c_str()) + name);
     const std::vector<std::uint8_t> new_bytes = testing::readFileBytes(testing::goldenPath(name));
     View old_view, new_view;
     ASSERT_EQ(View::open(old_bytes.data(), old_bytes.size(), &old_view), Status::kOk);
     ASSERT_EQ(View::open(new_bytes.data(), new_bytes.size(), &new_view), Status::kOk);
-    EXPECT_EQ(old_view.versionMinor(), 1);
+    EXPECT_EQ(old_view.versionMinor(), minor);
     EXPECT_EQ(new_view.versionMinor(), format::kVersionMinor);
-    EXPECT_FALSE(old_view.hasLift());
+    EXPECT_EQ(old_view.hasLift(), new_view.hasLift());
+    EXPECT_EQ(old_view.hasGradient(), new_view.hasGradient());
+    EXPECT_FALSE(old_view.hasShading());
     const GridInfo& g = old_view.grid();
     const Vec3f hi = g.origin + Vec3f{float(g.dims[0]), float(g.dims[1]), float(g.dims[2])} * g.voxel_size;
     for (const Vec3f& p : analytic::randomPoints(g.origin, hi, 500, 7)) {
@@ -59,6 +64,13 @@ TEST(Golden, Version11FilesReadAsBefore) {
       }
     }
   }
+}
+
+TEST(Golden, Version11FilesReadAsBefore) { expectOldFilesReadAsBefore(1, {"dense_plane.dng", "bricked_box.dng"}); }
+
+TEST(Golden, Version12FilesReadAsBefore) {
+  expectOldFilesReadAsBefore(
+      2, {"dense_plane.dng", "bricked_box.dng", "bricked_box_lifted.dng", "bricked_box_graded.dng"});
 }
 
 } // namespace

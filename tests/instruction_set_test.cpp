@@ -13,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace dng {
@@ -23,13 +24,21 @@ using analytic::AnalyticField;
 constexpr float kDt = 1.0f / 60.0f;
 constexpr float kReachVoxels = 3.0f;
 
-// What the file holds beside distances and normals (the accurate query reads them).
-enum class Extras { kNone, kLift, kLiftAndGradient };
+// What the file holds beside distances and normals: LIFT and GRAD (the accurate query reads them), or
+// SHAD (the nearest and trilinear queries and the step's rules read it).
+enum class Extras { kNone, kLift, kLiftAndGradient, kShading };
 
-// LIFT and GRAD sections whose values differ from the stored ones, as a blurred bake's do: lifts of up
-// to a third of a voxel, gradients tilted from the stored normals.
+// LIFT and GRAD sections whose values differ from the stored ones, as a 1.2 blurred bake's do: lifts of
+// up to a third of a voxel, gradients tilted from the stored normals. Or SHAD tilted the same way, as
+// a 1.3 blurred bake's.
 void addExtras(Extras extras, format::DenseField* io) {
   if (extras == Extras::kNone) return;
+  if (extras == Extras::kShading) {
+    io->shading.resize(io->normal.size());
+    for (std::size_t n = 0; n < io->normal.size(); ++n)
+      io->shading[n] = normalizeOrZero(io->normal[n] + Vec3f{0.3f * std::cos(0.11f * float(n)), -0.2f, 0.1f});
+    return;
+  }
   const std::size_t count = io->distance.size();
   io->accurate.resize(count);
   for (std::size_t n = 0; n < count; ++n)
@@ -125,8 +134,13 @@ TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
   const std::vector<float> points = queryPoints(20015);
   const std::size_t count = points.size() / 4;
   for (const AnalyticField* shape : {&box, &sphere}) {
-    for (bool dense : {false, true}) {
-      Field field(*shape, dense);
+    for (std::pair<bool, Extras> kind : {std::pair{false, Extras::kNone},
+                                         {true, Extras::kNone},
+                                         {false, Extras::kShading},
+                                         {true, Extras::kShading}}) {
+      const bool dense = kind.first;
+      Field field(*shape, dense, kind.second);
+      ASSERT_EQ(field.view.hasShading(), kind.second == Extras::kShading);
       for (Interpolation mode : {Interpolation::kNearest, Interpolation::kTrilinear, Interpolation::kAccurate}) {
         std::vector<Sample> reference(count), lanes(count);
         {
@@ -346,6 +360,22 @@ TEST(InstructionSet, StepGivesTheScalarResultsOnAStaticBody) {
     Field field(sphere, dense);
     expectSameSteps({makeBody(field.view, Material{})}, 11);
     expectSameSteps({makeBody(field.view, everyRule())}, 12);
+  }
+}
+
+// A SHAD section: the rules read its normals, the walk the planes'. Every rule, both encodings; the
+// shading must change the results, or the comparison says little.
+TEST(InstructionSet, StepGivesTheScalarResultsWithShadingNormals) {
+  const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+  for (bool dense : {false, true}) {
+    Field shaded(box, dense, Extras::kShading), plain(box, dense);
+    ASSERT_TRUE(shaded.view.hasShading());
+    expectSameSteps({makeBody(shaded.view, everyRule())}, 15);
+    const Body on_shaded = makeBody(shaded.view, everyRule()), on_plain = makeBody(plain.view, everyRule());
+    Swarm a = randomSwarm(3001, 15), b = a;
+    ASSERT_EQ(stepParticles(a.span(), kDt, &on_shaded, 1), Status::kOk);
+    ASSERT_EQ(stepParticles(b.span(), kDt, &on_plain, 1), Status::kOk);
+    EXPECT_FALSE(sameParticles(a, b));
   }
 }
 

@@ -237,6 +237,10 @@ TEST(Reject, PayloadSizesThatDoNotMatchTheGrid) {
   ASSERT_EQ(openStatus(graded), Status::kOk);
   EXPECT_EQ(openStatus(withEntry(graded, format::kTagGradient, [](SectionEntry& e) { e.size -= 2; })),
             Status::kBadPayloadSize);
+  const Bytes shaded = testing::smallBrickedBoxShaded();
+  ASSERT_EQ(openStatus(shaded), Status::kOk);
+  EXPECT_EQ(openStatus(withEntry(shaded, format::kTagShading, [](SectionEntry& e) { e.size -= 4; })),
+            Status::kBadPayloadSize);
   // Dimensions whose product overflows 64 bits must not wrap around to a matching size.
   EXPECT_EQ(openStatus(withGrid(dense, [](GridSection& g) { g.dims[0] = g.dims[1] = g.dims[2] = 1u << 24; })),
             Status::kBadPayloadSize);

@@ -13,9 +13,13 @@
 #include <string>
 
 #ifdef DNG_HAVE_BAKER
+#include "dng/format/writer.h"
 #include "mesh_reference.h"
+#include "sample_files.h"
 #include "stages.h"
 #include "test_meshes.h"
+
+#include <cmath>
 #endif
 
 namespace dng {
@@ -144,20 +148,44 @@ protected:
   TempDir dir_{"samples_test"};
 };
 
-// A zero-thickness sheet in potential mode keeps particles from both sides on their side.
-TEST_F(BakedSamples, ThinSheetInPotentialModeStopsParticlesFromBothSides) {
-  const std::string sheet = bake(sheetMesh({0, 0, 0}, 1.0f), baker::NormalMode::kPotential, "sheet");
-  const SampleOutput out = runProgramSmall("thin_sheet", quoted(sheet) + " " + quoted(dir_.file("out")), 2000);
-  EXPECT_EQ(out.exit_code, 0) << out.text;
-  EXPECT_EQ(out.get("thin_sheet", "crossed"), 0);
-  EXPECT_GT(out.get("thin_sheet", "contacts"), 1000); // they really were thrown at it
-  // The paper (§3.1): with normal-blur "the DN field will only work towards one direction" on a
-  // zero-thickness object. The same scene on such a bake must show crossings: the measure can fail.
-  const std::string blurred = bake(sheetMesh({0, 0, 0}, 1.0f), baker::NormalMode::kNormalBlur, "sheet_blur");
-  const SampleOutput blurred_out =
-      runProgramSmall("thin_sheet", quoted(blurred) + " " + quoted(dir_.file("out")), 2000);
-  EXPECT_EQ(blurred_out.exit_code, 1) << blurred_out.text; // the sample says so in its exit code
-  EXPECT_GT(blurred_out.get("thin_sheet", "crossed"), 100);
+// The paper's one-sided field of a zero-thickness sheet (§3.1: with normal-blur "the DN field will
+// only work towards one direction"): its distance, |z|, but every normal +z, so every plane rises
+// towards the sheet from below. 48^3 voxels over [-1.5, 1.5]^3, band 4 voxels.
+std::vector<std::uint8_t> oneSidedSheet() {
+  format::DenseField field;
+  format::GridGeometry g;
+  g.origin = {-1.5f, -1.5f, -1.5f};
+  g.voxel_size = 3.0f / 48.0f;
+  g.dims[0] = g.dims[1] = g.dims[2] = 48;
+  g.band = 4.0f * g.voxel_size;
+  field.reset(g);
+  for (std::uint32_t k = 0; k < 48; ++k)
+    for (std::uint32_t j = 0; j < 48; ++j)
+      for (std::uint32_t i = 0; i < 48; ++i) {
+        field.distance[g.index(i, j, k)] = std::min(std::fabs(g.voxelCentre(i, j, k).z), g.band);
+        field.normal[g.index(i, j, k)] = {0.0f, 0.0f, 1.0f};
+      }
+  return format::encodeBricked(field, {}, "").bytes;
+}
+
+// A zero-thickness sheet keeps particles from both sides on their side, in potential mode (whose
+// normals push away on both sides) and in normal-blur mode (whose blurred normals point one way, but
+// whose planes, like every mode's since format 1.3, carry the distance's own normal).
+TEST_F(BakedSamples, ThinSheetStopsParticlesFromBothSides) {
+  for (baker::NormalMode mode : {baker::NormalMode::kPotential, baker::NormalMode::kNormalBlur}) {
+    SCOPED_TRACE(baker::normalModeName(mode));
+    const std::string sheet = bake(sheetMesh({0, 0, 0}, 1.0f), mode, std::string("sheet_") + normalModeName(mode));
+    const SampleOutput out = runProgramSmall("thin_sheet", quoted(sheet) + " " + quoted(dir_.file("out")), 2000);
+    EXPECT_EQ(out.exit_code, 0) << out.text;
+    EXPECT_EQ(out.get("thin_sheet", "crossed"), 0);
+    EXPECT_GT(out.get("thin_sheet", "contacts"), 1000); // they really were thrown at it
+  }
+  // The same scene on the one-sided field must show crossings: the measure can fail.
+  writeFileBytes(dir_.file("one_sided.dng"), oneSidedSheet());
+  const SampleOutput one_sided =
+      runProgramSmall("thin_sheet", quoted(dir_.file("one_sided.dng")) + " " + quoted(dir_.file("out")), 2000);
+  EXPECT_EQ(one_sided.exit_code, 1) << one_sided.text; // the sample says so in its exit code
+  EXPECT_GT(one_sided.get("thin_sheet", "crossed"), 100);
 }
 
 TEST_F(BakedSamples, DemoLeavesNoParticleInsideTheMesh) {

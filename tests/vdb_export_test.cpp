@@ -58,9 +58,9 @@ TEST(VdbExport, GridsMatchTheDngAtTheSameWorldPositions) {
   EXPECT_GT(compared, 1000);
 }
 
-// A blurred bake exports its kept gradient beside the blurred normals: the exact bake's normals, voxel
-// for voxel (both come from the same distance stage).
-TEST(VdbExport, BlurredBakesAddTheGradientGrid) {
+// A blurred bake exports its planes' normals, the exact bake's voxel for voxel (both come from the same
+// distance stage), and its blurred ones beside them as "shading".
+TEST(VdbExport, BlurredBakesAddTheShadingGrid) {
   const testing::TempDir temp("vdb_export_gradient_test");
   const std::string dir = temp.path().string();
   testing::writeObj(testing::boxMesh({0, 0, 0}, {0.8f, 0.5f, 0.3f}), dir + "/box.obj");
@@ -77,10 +77,10 @@ TEST(VdbExport, BlurredBakesAddTheGradientGrid) {
     file.close();
     return grid;
   };
-  EXPECT_EQ(exported(NormalMode::kExact, "gradient"), nullptr);
+  EXPECT_EQ(exported(NormalMode::kExact, "shading"), nullptr);
   const auto exact = exported(NormalMode::kExact, "normal");
-  const auto gradient = exported(NormalMode::kNormalBlur, "gradient");
-  const auto blurred = exported(NormalMode::kNormalBlur, "normal");
+  const auto gradient = exported(NormalMode::kNormalBlur, "normal");
+  const auto blurred = exported(NormalMode::kNormalBlur, "shading");
   ASSERT_TRUE(exact && gradient && blurred);
   int compared = 0, tilted = 0;
   for (auto it = exact->cbeginValueOn(); it; ++it) {

@@ -95,10 +95,9 @@ void addOptions(CLI::App& app, CommandLine& cl) {
       ->transform(CLI::CheckedTransformer(encodings, CLI::ignore_case));
   app.add_option("--brick-size", cl.bake.brick.brick_size, "4, 8 (default) or 16")->check(CLI::IsMember({4u, 8u, 16u}));
   app.add_option("--tolerance", cl.bake.brick.tolerance_distance, "plane/far tile tolerance in voxels (default 0.02)");
-  app.add_flag(
-      "!--no-lift", cl.bake.lift,
-      "leave out the LIFT and GRAD sections (a file up to half smaller); accurate queries then read the lowered "
-      "values and the stored normals");
+  app.add_flag("!--no-lift", cl.bake.lift,
+               "leave out the LIFT section (a file about a third smaller); accurate queries then read the lowered "
+               "values");
   app.add_option("--export-vdb", cl.export_vdb, "also write distance and normal grids as OpenVDB");
   app.add_option("--threads", cl.bake.threads, "worker threads (default: all); the output never depends on it");
   app.add_flag("--json", cl.json, "print a versioned JSON report on stdout");

@@ -73,6 +73,7 @@ Json reportJson(const std::string& path, const View& view) {
   j["conservative_planes"] = view.conservativePlanes();
   j["lift"] = view.hasLift();
   j["gradient"] = view.hasGradient();
+  j["shading"] = view.hasShading();
   const TileCounts& t = view.tileCounts();
   j["tiles"] = {{"far_outside", t.far_outside}, {"far_inside", t.far_inside}, {"plane", t.plane}, {"brick", t.brick}};
   j["voxels_in_band"] = band;
@@ -112,6 +113,9 @@ void printSummary(std::FILE* out, const std::string& path, const View& view) {
   std::fprintf(out, "  gradient   %s\n",
                view.hasGradient() ? "yes (accurate queries use the distance's own gradient, not the blurred normals)"
                                   : "none (accurate queries use the stored normals)");
+  std::fprintf(out, "  shading    %s\n",
+               view.hasShading() ? "yes (queries and responses read the mode's normals; the walk reads the planes')"
+                                 : "none (queries and responses read the planes' normals)");
   if (g.encoding == format::Encoding::kBricked) {
     const TileCounts& t = view.tileCounts();
     std::fprintf(out, "  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",

@@ -174,12 +174,10 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   if (!status.ok()) return status;
   report->band_blocks = band.blockCount();
   timer.done("distance");
-  // The blurred modes replace the normals; the accurate query wants the distance's own gradient.
-  if (options.lift && options.mode != NormalMode::kExact) band.keepGradient();
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return BakeStatus::cancelled();
-  status = makePlanesConservative(options.mode == NormalMode::kExact, options.lift, progress, user, &band);
+  status = makePlanesConservative(options.lift, progress, user, &band);
   if (!status.ok()) return status;
   report->grid.flags = band.grid().flags;
   timer.done("conservative");

@@ -136,16 +136,16 @@ void BandGrid::readAccurate(const format::VoxelBox& box, float* distance) const 
   readTree(impl_->accurate->tree(), box, [&](std::size_t out, float d) { distance[out] = d; });
 }
 
-void BandGrid::keepGradient() {
-  impl_->gradient = impl_->normal->deepCopy();
-  impl_->gradient->setName("gradient"); // its name in --export-vdb files
+void BandGrid::startShading() {
+  impl_->shading = impl_->normal->deepCopy();
+  impl_->shading->setName("shading"); // its name in --export-vdb files
 }
 
-bool BandGrid::hasGradient() const { return impl_->gradient != nullptr; }
+bool BandGrid::hasShading() const { return impl_->shading != nullptr; }
 
-void BandGrid::readGradient(const format::VoxelBox& box, Vec3f* gradient) const {
-  readTree(impl_->gradient->tree(), box, [&](std::size_t out, const openvdb::Vec3s& n) {
-    gradient[out] = {n.x(), n.y(), n.z()};
+void BandGrid::readShading(const format::VoxelBox& box, Vec3f* shading) const {
+  readTree(impl_->shading->tree(), box, [&](std::size_t out, const openvdb::Vec3s& n) {
+    shading[out] = {n.x(), n.y(), n.z()};
   });
 }
 

@@ -76,12 +76,13 @@ public:
   void keepAccurateDistances();
   bool hasAccurate() const override;
   void readAccurate(const format::VoxelBox& box, float* distance) const override;
-  /// Keeps a copy of the normals as they are now, the distance's own gradient, before a stage replaces
-  /// them with blurred ones (normal-blur and potential modes), so the encoders can write them beside
-  /// (the file's GRAD section). Costs three more floats per band voxel. Call after finishBand, once.
-  void keepGradient();
-  bool hasGradient() const override;
-  void readGradient(const format::VoxelBox& box, Vec3f* gradient) const override;
+  /// Starts the shading normals as a copy of the normals as they are now, the distance's own gradient,
+  /// for a stage to replace with its mode's (normal-blur, potential); the normals stay the planes'.
+  /// The encoders write them beside the planes (the file's SHAD section). Costs three more floats per
+  /// band voxel. Call after finishBand, once.
+  void startShading();
+  bool hasShading() const override;
+  void readShading(const format::VoxelBox& box, Vec3f* shading) const override;
   /// Far when no block overlaps the box and every tile it covers lies on one side.
   format::FarHint farHint(const format::VoxelBox& box) const override;
 

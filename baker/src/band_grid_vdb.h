@@ -13,7 +13,7 @@ struct BandGrid::Impl {
   openvdb::FloatGrid::Ptr distance; ///< background +band; a level set once finishBand has run
   openvdb::Vec3SGrid::Ptr normal;   ///< background zero; same topology as `distance`
   openvdb::FloatGrid::Ptr accurate; ///< null, or `distance` as keepAccurateDistances() found it
-  openvdb::Vec3SGrid::Ptr gradient; ///< null, or `normal` as keepGradient() found it
+  openvdb::Vec3SGrid::Ptr shading;  ///< null, or the mode's normals (startShading()); same topology
 };
 
 /// Our voxel (i, j, k) is OpenVDB's coordinate (i, j, k); the transform puts it at its centre,

@@ -119,10 +119,12 @@ typename GridT::Ptr blurRounds(const GridT& surface, const format::GridGeometry&
   return current;
 }
 
-// Calls visit(coordinate, distance, normal&) for every band voxel, leaves in parallel. `make_state`
-// gives each leaf task its own state (an accessor), passed to visit as the first argument.
+// Calls visit(coordinate, distance, shading normal&) for every band voxel, leaves in parallel, the
+// shading normals starting as the exact ones (BandGrid::startShading). `make_state` gives each leaf
+// task its own state (an accessor), passed to visit as the first argument.
 template <class MakeState, class Visit> void forEachBandVoxel(BandGrid* band, MakeState make_state, Visit visit) {
-  openvdb::Vec3STree& normals = band->impl().normal->tree();
+  band->startShading();
+  openvdb::Vec3STree& normals = band->impl().shading->tree();
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(band->impl().distance->tree());
   leaves.foreach ([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
     auto state = make_state();

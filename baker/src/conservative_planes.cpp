@@ -4,14 +4,16 @@
 //
 // A voxel (distance d, normal n, centre c) answers d + n . (p - c) anywhere in its cell (paper §3.1's
 // plane refinement). That overestimates the distance wherever the true distance D bends below the
-// plane: outside a concave crease the plane extends one face past the other, near a medial axis it
-// extends the nearer side, and a blurred normal tilts it. The error f = plane - D is bounded per cell:
+// plane: outside a concave crease the plane extends one face past the other, and near a medial axis
+// it extends the nearer side. The error f = plane - D is bounded per cell:
 //   - where D is a minimum of planes (creases, medial axes) f is convex, so on the cell it is at most
 //     the trilinear blend of f at the 27 voxel centres around it (exact distances from the band);
-//   - where D bends upwards (convex edges, curved faces) f is concave and at most its tangent at c:
-//     (n - grad D) . (p - c) <= |n - grad D|_1 h / 2, which is zero for exact normals; grad D comes
-//     from the one-sided differences to the six face neighbours, the worse side per axis.
-// The plane is lowered by the larger bound plus a small allowance, never raised.
+//   - where D bends upwards (convex edges, curved faces) f is concave and at most its tangent at c,
+//     (n - grad D) . (p - c), which is zero: every mode's planes carry the distance's own normal (the
+//     blurred modes keep theirs as shading normals beside them, docs/FORMAT.md §5.4). A blurred
+//     normal's plane would need a lowering of up to |n - grad D|_1 h / 2 here, and beside sharp edges
+//     that left particles no provable room (measured: docs/CHANGELOG.md, format 1.3).
+// The plane is lowered by the bound plus a small allowance, never raised.
 #include "parallel_blocks.h"
 #include "stages.h"
 
@@ -65,20 +67,18 @@ void readNeighbourhood(const BandGrid& band, const VoxelBlock& block, Neighbourh
 }
 
 // The bound on plane - D over the cell of voxel (x, y, z) of the block (see the top of the file).
-float planeExcess(const Neighbourhood& hood, int x, int y, int z, float band, float h, bool exact_normals) {
+float planeExcess(const Neighbourhood& hood, int x, int y, int z, float band, float h) {
   const int centre = Neighbourhood::at(x, y, z);
   const float d = hood.distance[centre];
   const Vec3f n = hood.normal[centre];
   // f at the 27 centres; far inside neighbours bound nothing (D could be anything below -band).
   float f[27];
   bool known[27];
-  bool far[27];
   for (int o = 0; o < 27; ++o) {
     const int ox = o % 3 - 1, oy = (o / 3) % 3 - 1, oz = o / 9 - 1;
     const float dn = hood.distance[Neighbourhood::at(x + ox, y + oy, z + oz)];
     const float plane = d + h * (n.x * float(ox) + n.y * float(oy) + n.z * float(oz));
     known[o] = dn > -band;
-    far[o] = !(std::fabs(dn) < band);
     // Beyond the band the distance is only known to be >= band; the runtime never takes more than
     // the guaranteed reach (< band) from a point near there, so the plane may read up to band.
     f[o] = dn >= band ? std::min(plane - band, 0.0f) : plane - dn;
@@ -104,26 +104,12 @@ float planeExcess(const Neighbourhood& hood, int x, int y, int z, float band, fl
     }
     if (count > 0) excess = std::max(excess, sum / float(count));
   }
-  if (!exact_normals) {
-    // Tangent bound. Along each axis the gradient of D at c is the one-sided difference on the side
-    // whose piece is active at c (D is piecewise smooth), so n - grad D is at most the larger of
-    // |f(+a)| / h and |f(-a)| / h there; neighbours beyond the band say nothing.
-    const int step[3] = {1, 3, 9};
-    float sum = 0.0f;
-    for (int a = 0; a < 3; ++a) {
-      float worst = 0.0f;
-      for (int side : {13 - step[a], 13 + step[a]})
-        if (!far[side]) worst = std::max(worst, std::fabs(f[side]));
-      sum += worst;
-    }
-    excess = std::max(excess, 0.5f * sum);
-  }
   return excess;
 }
 
 // How far to lower each voxel of one block (VoxelBlock order). A plane that cannot reach zero anywhere
 // in its cell (d + |n|_1 h/2 < 0) promises nothing and is left alone, so deep inside stays exact.
-void lowerBlock(const Neighbourhood& hood, const format::GridGeometry& g, bool exact_normals, float* out) {
+void lowerBlock(const Neighbourhood& hood, const format::GridGeometry& g, float* out) {
   const float h = g.voxel_size;
   for (int x = 0; x < VoxelBlock::kDim; ++x)
     for (int y = 0; y < VoxelBlock::kDim; ++y)
@@ -133,7 +119,7 @@ void lowerBlock(const Neighbourhood& hood, const format::GridGeometry& g, bool e
         const Vec3f n = hood.normal[at];
         if (!(std::fabs(d) < g.band) || d + (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z)) * 0.5f * h < 0.0f)
           continue;
-        const float excess = planeExcess(hood, x, y, z, g.band, h, exact_normals);
+        const float excess = planeExcess(hood, x, y, z, g.band, h);
         out[VoxelBlock::offset(x, y, z)] =
             excess + (excess > 1e-3f * h ? kCreaseAllowanceVoxels : kAllowanceVoxels) * h;
       }
@@ -141,8 +127,7 @@ void lowerBlock(const Neighbourhood& hood, const format::GridGeometry& g, bool e
 
 } // namespace
 
-BakeStatus makePlanesConservative(bool exact_normals, bool keep_accurate, ProgressFn progress, void* progress_user,
-                                  BandGrid* io) {
+BakeStatus makePlanesConservative(bool keep_accurate, ProgressFn progress, void* progress_user, BandGrid* io) {
   const format::GridGeometry& g = io->grid();
   const std::vector<VoxelBlock> blocks = io->blocks();
   std::vector<float> lowered(blocks.size() * VoxelBlock::kVoxels, 0.0f);
@@ -150,7 +135,7 @@ BakeStatus makePlanesConservative(bool exact_normals, bool keep_accurate, Progre
       forEachBlockInParallel(blocks.size(), "conservative", progress, progress_user, [&](std::size_t b) {
         Neighbourhood hood; // readNeighbourhood fills all of it
         readNeighbourhood(*io, blocks[b], &hood);
-        lowerBlock(hood, g, exact_normals, &lowered[b * VoxelBlock::kVoxels]);
+        lowerBlock(hood, g, &lowered[b * VoxelBlock::kVoxels]);
       });
   if (!finished) return BakeStatus::cancelled();
   if (keep_accurate) io->keepAccurateDistances(); // what the file's LIFT section gives back

@@ -2,8 +2,8 @@
 // already is a level set (background = band) and a normal grid in the right placement, so exporting is
 // writing them. "distance" is the distance itself: the copy kept from before the conservative lowering
 // when there is one (the LIFT section's source), and then the lowered values go beside it as
-// "conservative_distance", what the runtime's nearest query reads. The blurred modes add "gradient",
-// the distance's own normals kept beside the blurred ones (the GRAD section's source).
+// "conservative_distance", what the runtime's nearest query reads. "normal" is the distance's own
+// (the planes'); the blurred modes add "shading", their normals (the SHAD section's source).
 #include "band_grid_vdb.h"
 #include "stages.h"
 
@@ -28,7 +28,7 @@ BakeStatus exportVdb(const BandGrid& band, const std::string& path) {
       lowered->setName("conservative_distance");
       written = {grids.accurate, lowered, grids.normal};
     }
-    if (grids.gradient != nullptr) written.push_back(grids.gradient);
+    if (grids.shading != nullptr) written.push_back(grids.shading);
     file.write(written);
     file.close();
   } catch (const std::exception& e) {

@@ -128,18 +128,19 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
 BakeStatus computeDistanceField(const TriangleSoup& soup, const PseudonormalSign* pseudonormals, ProgressFn progress,
                                 void* progress_user, BandGrid* out);
 
-/// Replaces the band's normals by the paper's method 1 (normal-blur) or 2 (potential gradient);
-/// exact mode keeps them. Surface voxels are those any triangle overlaps (exact triangle/box test).
+/// Gives the band shading normals by the paper's method 1 (normal-blur) or 2 (potential gradient),
+/// BandGrid::startShading; the normals stay the distance's own, the planes'. Exact mode adds none. Surface voxels are
+/// those any triangle overlaps (exact triangle/box test).
 BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options, ProgressFn progress,
                            void* progress_user, BandGrid* io);
 
 /// Lowers every band voxel's distance until its plane, d + n . (p - c), is at most the true signed
 /// distance everywhere in the voxel's cell (conservative_planes.cpp says how the bound is found), and
-/// marks the grid format::kGridFlagConservativePlanes. Runs after the normals are final; with exact
-/// normals the tangent part of the bound is zero. Reports stage "conservative"; cancel as the others.
-/// With `keep_accurate` the band keeps the distances from before the lowering (BandGrid::keepAccurateDistances).
-BakeStatus makePlanesConservative(bool exact_normals, bool keep_accurate, ProgressFn progress, void* progress_user,
-                                  BandGrid* io);
+/// marks the grid format::kGridFlagConservativePlanes. The band's normals must be the distance's own
+/// (every mode keeps them; the blurred ones are shading normals). Reports stage "conservative"; cancel
+/// as the others. With `keep_accurate` the band keeps the distances from before the lowering
+/// (BandGrid::keepAccurateDistances).
+BakeStatus makePlanesConservative(bool keep_accurate, ProgressFn progress, void* progress_user, BandGrid* io);
 
 /// A voxel the surface overlaps, with the average normal of the triangles overlapping it.
 struct SurfaceVoxel {
@@ -149,13 +150,13 @@ struct SurfaceVoxel {
 
 /// Method 1's blur (paper §3.1): the surface normals blurred with the tent kernel of `radius` (1-8) for
 /// `rounds` rounds, surface voxels reset after each; every band voxel the blur reaches takes the
-/// normalized result, the others keep their normal. Reports stage "normals" after each pass; a false
-/// return from `progress` cancels (kCancelled, the band half-updated).
+/// normalized result as its shading normal, the others keep their exact normal as theirs. Reports stage "normals" after
+/// each pass; a false return from `progress` cancels (kCancelled, the band half-updated).
 BakeStatus blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
                        BandGrid* io, ProgressFn progress = nullptr, void* progress_user = nullptr);
 
-/// Method 2 (paper §3.1): occupancy 1 at surface voxels blurred the same way; band voxels take the
-/// normalized downhill gradient by central differences, oriented into the hemisphere of their exact
+/// Method 2 (paper §3.1): occupancy 1 at surface voxels blurred the same way; band voxels' shading
+/// normals are the normalized downhill gradient by central differences, oriented into the hemisphere of their exact
 /// normal, where the gradient is not flat. Progress and cancel as blurNormals.
 BakeStatus potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
                             BandGrid* io, ProgressFn progress = nullptr, void* progress_user = nullptr);

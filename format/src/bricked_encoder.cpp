@@ -23,6 +23,14 @@ constexpr float kDegrees = 57.29577951308232f;
 // Relative float rounding between the encoder's and the reader's evaluation of the same plane.
 constexpr float kRoundingSlack = 4e-7f;
 
+// A section of one 16-bit normal per pool word (GRAD, docs/FORMAT.md §5.3; SHAD, §5.4), when the
+// source has it: the brick's normals as read, and the words in the pool's order.
+struct WordNormals {
+  bool present = false;
+  std::vector<Vec3f> brick;
+  std::vector<std::uint16_t> pool;
+};
+
 struct Encoder {
   const FieldSource& source;
   const GridGeometry& grid;
@@ -43,11 +51,8 @@ struct Encoder {
   std::vector<float> accurate;
   std::vector<std::int16_t> lift_top;
   std::vector<std::int16_t> lift_pool;
-  // GRAD (docs/FORMAT.md §5.3), when the source knows its distance's gradient: the brick's, and one
-  // word per pool word.
-  bool graded = false;
-  std::vector<Vec3f> gradient;
-  std::vector<std::uint16_t> gradient_pool;
+  WordNormals gradient; // GRAD: the distance's own gradient beside other normals
+  WordNormals shading;  // SHAD: the mode's normals beside the gradient's planes
 };
 
 // A brick's voxel range, clipped to the grid.
@@ -142,7 +147,10 @@ bool tryPlaneTile(Encoder& e, const BrickBox& box, const std::uint32_t brick[3],
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     const float predicted = d_c + dot(n, g.voxelCentre(i, j, k) - c);
     const float error = std::fabs(clampToBand(predicted, g.band) - clampToBand(e.distance[v], g.band));
-    const bool normal_ok = !inBand(e, v) || dot(n, normalizeOrZero(e.normal[v])) >= e.min_cosine;
+    // A plane tile has no words to put shading normals in: its normal stands for them, within tolerance.
+    const bool normal_ok =
+        !inBand(e, v) || (dot(n, normalizeOrZero(e.normal[v])) >= e.min_cosine &&
+                          (!e.shading.present || dot(n, normalizeOrZero(e.shading.brick[v])) >= e.min_cosine));
     fits = fits && error <= e.tolerance_local && normal_ok;
   });
   if (!fits) return false;
@@ -234,7 +242,8 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   const std::uint32_t pool_index = std::uint32_t(base >> (3 * e.log2));
   e.pool.resize(base + (std::size_t(1) << (3 * e.log2)), 0u);
   if (e.lifted) e.lift_pool.resize(e.pool.size(), 0);
-  if (e.graded) e.gradient_pool.resize(e.pool.size(), 0);
+  for (WordNormals* words : {&e.gradient, &e.shading})
+    if (words->present) words->pool.resize(e.pool.size(), 0);
   const std::uint32_t mask = e.size - 1;
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     const std::uint32_t qd = distanceCode(targets[v], inBand(e, v), lo_value, hi_value, step);
@@ -244,7 +253,8 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
     const float decoded = wordDistance(word, lo_value, hi_value, step);
     if (inBand(e, v)) measure(e, v, decoded, wordNormal(word));
     if (e.lifted) e.lift_pool[base + local] = lift(e, v, decoded);
-    if (e.graded) e.gradient_pool[base + local] = gradientWord(e.gradient[v]);
+    for (WordNormals* words : {&e.gradient, &e.shading})
+      if (words->present) words->pool[base + local] = gradientWord(words->brick[v]);
   });
   return packBrickEntry(pool_index, lo16, hi16);
 }
@@ -268,7 +278,8 @@ bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
     if (!(*error = checkVoxels(read, e.distance.data(), e.normal.data())).empty()) return false;
     if (e.lifted) e.source.readAccurate(read, e.accurate.data());
     if (e.lifted && !(*error = checkAccurate(read, e.accurate.data())).empty()) return false;
-    if (e.graded) e.source.readGradient(read, e.gradient.data());
+    if (e.gradient.present) e.source.readGradient(read, e.gradient.brick.data());
+    if (e.shading.present) e.source.readShading(read, e.shading.brick.data());
     for (std::size_t v = 0; v < read.count(); ++v)
       e.stats.band_voxels += inBand(e, v) ? 1 : 0;
     if (!tryFarTile(e, box, &entry)) {
@@ -317,11 +328,13 @@ Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std:
             {},
             {},
             {},
-            source.hasGradient(),
             {},
             {}};
   if (e.lifted) e.accurate.resize(brick_voxels);
-  if (e.graded) e.gradient.resize(brick_voxels);
+  e.gradient.present = source.hasGradient();
+  e.shading.present = source.hasShading();
+  for (WordNormals* words : {&e.gradient, &e.shading})
+    if (words->present) words->brick.resize(brick_voxels);
   return e;
 }
 
@@ -329,8 +342,8 @@ Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std:
 struct Layer {
   std::vector<std::uint64_t> top;
   std::vector<std::uint32_t> pool;
-  std::vector<std::int16_t> lift_top, lift_pool; // empty without accurate distances
-  std::vector<std::uint16_t> gradient_pool;      // empty without gradients
+  std::vector<std::int16_t> lift_top, lift_pool;          // empty without accurate distances
+  std::vector<std::uint16_t> gradient_pool, shading_pool; // empty without those sections
   EncodeStats stats;
   std::string error;
 };
@@ -352,7 +365,7 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   std::vector<std::uint64_t> top;
   std::vector<std::uint32_t> pool;
   std::vector<std::int16_t> lift_top, lift_pool;
-  std::vector<std::uint16_t> gradient_pool;
+  std::vector<std::uint16_t> gradient_pool, shading_pool;
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);
     if (result.stats.tiles.brick >= kMaxPoolBricks) {
@@ -368,6 +381,7 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
     lift_top.insert(lift_top.end(), layer.lift_top.begin(), layer.lift_top.end());
     lift_pool.insert(lift_pool.end(), layer.lift_pool.begin(), layer.lift_pool.end());
     gradient_pool.insert(gradient_pool.end(), layer.gradient_pool.begin(), layer.gradient_pool.end());
+    shading_pool.insert(shading_pool.end(), layer.shading_pool.begin(), layer.shading_pool.end());
     layer = Layer{}; // give the memory back as we go
   }
   ContainerBuilder builder;
@@ -379,8 +393,11 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   if (!lift_top.empty()) builder.addSection(kTagLift, 0, lift_top.data(), lift_top.size() * sizeof(std::int16_t));
   if (!gradient_pool.empty())
     builder.addSection(kTagGradient, 0, gradient_pool.data(), gradient_pool.size() * sizeof(std::uint16_t));
+  if (!shading_pool.empty())
+    builder.addSection(kTagShading, 0, shading_pool.data(), shading_pool.size() * sizeof(std::uint16_t));
   result.stats.payload_bytes = top.size() * sizeof(std::uint64_t) + pool.size() * sizeof(std::uint32_t) +
-                               lift_top.size() * sizeof(std::int16_t) + gradient_pool.size() * sizeof(std::uint16_t);
+                               lift_top.size() * sizeof(std::int16_t) +
+                               (gradient_pool.size() + shading_pool.size()) * sizeof(std::uint16_t);
   result.bytes = builder.finish();
   return result;
 }
@@ -415,7 +432,8 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
     layers[z].pool = std::move(e.pool);
     layers[z].lift_top = std::move(e.lift_top);
     layers[z].lift_pool = std::move(e.lift_pool);
-    layers[z].gradient_pool = std::move(e.gradient_pool);
+    layers[z].gradient_pool = std::move(e.gradient.pool);
+    layers[z].shading_pool = std::move(e.shading.pool);
     layers[z].stats = e.stats;
   });
   if (!finished) result.fail(EncodeError::kCancelled, "cancelled");

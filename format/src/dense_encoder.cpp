@@ -65,6 +65,8 @@ std::string checkField(const DenseField& field) {
     return "the accurate array must be empty or hold one entry per voxel";
   if (!field.gradient.empty() && field.gradient.size() != field.grid.voxelCount())
     return "the gradient array must be empty or hold one entry per voxel";
+  if (!field.shading.empty() && field.shading.size() != field.grid.voxelCount())
+    return "the shading array must be empty or hold one entry per voxel";
   VoxelBox all;
   for (int a = 0; a < 3; ++a)
     all.hi[a] = field.grid.dims[a];
@@ -111,19 +113,35 @@ void addCommonSections(ContainerBuilder& builder, const GridSection& grid, std::
   if (!metadata_json.empty()) builder.addSection(kTagMetadata, 0, metadata_json.data(), metadata_json.size());
 }
 
+namespace {
+
+// One GRAD or SHAD word per voxel of a slice, from normals `read` writes (readGradient, readShading).
+template <class Read> void sliceWords(std::size_t per_slice, Read read, std::uint16_t* out) {
+  std::vector<Vec3f> normals(per_slice);
+  read(normals.data());
+  for (std::size_t v = 0; v < per_slice; ++v)
+    out[v] = gradientWord(normals[v]);
+}
+
+} // namespace
+
 EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_json, const EncodeHooks& hooks) {
   EncodeResult result;
   const GridGeometry& g = source.grid();
   result.fail(EncodeError::kInvalidGeometry, checkGeometry(g));
   if (!result.ok()) return result;
 
-  // One piece per z slice, each writing its own part of `voxels` (and of `lifts` and `gradients`).
+  // One piece per z slice, each writing its own part of `voxels` (and of `lifts`, `gradients` and
+  // `shadings`).
   const std::size_t per_slice = std::size_t(g.dims[0]) * g.dims[1];
   const bool lifted = source.hasAccurate();
   const bool graded = source.hasGradient();
+  const bool shaded = source.hasShading();
   std::vector<DenseVoxel> voxels(g.voxelCount());
   std::vector<std::int16_t> lifts(lifted ? g.voxelCount() : 0);
   std::vector<std::uint16_t> gradients(graded ? g.voxelCount() : 0);
+  // SHAD pads to a whole number of 32-bit words (docs/FORMAT.md §5.4).
+  std::vector<std::uint16_t> shadings(shaded ? (g.voxelCount() + 1) / 2 * 2 : 0, 0);
   std::vector<std::uint64_t> band_voxels(g.dims[2], 0);
   std::vector<float> lift_errors(g.dims[2], 0.0f);
   std::vector<std::string> errors(g.dims[2]);
@@ -139,12 +157,12 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
     if (!(errors[k] = checkVoxels(slice, distance.data(), normal.data())).empty()) return;
     if (lifted) source.readAccurate(slice, accurate.data());
     if (lifted && !(errors[k] = checkAccurate(slice, accurate.data())).empty()) return;
-    if (graded) {
-      std::vector<Vec3f> gradient(per_slice);
-      source.readGradient(slice, gradient.data());
-      for (std::size_t v = 0; v < per_slice; ++v)
-        gradients[k * per_slice + v] = gradientWord(gradient[v]);
-    }
+    if (graded)
+      sliceWords(
+          per_slice, [&](Vec3f* out) { source.readGradient(slice, out); }, &gradients[k * per_slice]);
+    if (shaded)
+      sliceWords(
+          per_slice, [&](Vec3f* out) { source.readShading(slice, out); }, &shadings[k * per_slice]);
     for (std::size_t v = 0; v < per_slice; ++v) {
       const Vec3f n = normalizeOrZero(normal[v]); // readers rely on unit-or-zero normals
       voxels[k * per_slice + v] = {distance[v], {n.x, n.y, n.z}};
@@ -169,8 +187,9 @@ EncodeResult encodeDense(const FieldSource& source, std::string_view metadata_js
   builder.addSection(kTagDense, kSectionRequired, voxels.data(), voxels.size() * sizeof(DenseVoxel));
   if (lifted) builder.addSection(kTagLift, 0, lifts.data(), lifts.size() * sizeof(std::int16_t));
   if (graded) builder.addSection(kTagGradient, 0, gradients.data(), gradients.size() * sizeof(std::uint16_t));
+  if (shaded) builder.addSection(kTagShading, 0, shadings.data(), shadings.size() * sizeof(std::uint16_t));
   result.stats.payload_bytes = voxels.size() * sizeof(DenseVoxel) + lifts.size() * sizeof(std::int16_t) +
-                               gradients.size() * sizeof(std::uint16_t);
+                               (gradients.size() + shadings.size()) * sizeof(std::uint16_t);
   result.bytes = builder.finish();
   return result;
 }

@@ -1,5 +1,5 @@
 // Internal: the walk's neighbour bound (walk.cpp neighbourBound) with its 26 samples in lanes. The
-// samples are nearestLanes, lane for lane the scalar View::sample; what the scalar loop does with each
+// samples are nearestLanes, lane for lane the scalar planeSample; what the scalar loop does with each
 // is done here with the same operations, and a maximum does not depend on the order it is taken in, so
 // the bound is bit for bit the scalar one.
 //

@@ -44,10 +44,49 @@ DNG_LANE_INLINE V3 octDecodeLanes(I qu, I qv, F scale) {
   return {x * inv, y * inv, z * inv};
 }
 
+// 16-bit section entries (LIFT, GRAD, SHAD), widened; lanes where `m` is false give 0. Lane by lane: no set
+// here gathers 16-bit words, and a 32-bit gather could read past the end of the file's last section.
+template <class T> DNG_LANE_INLINE I gather16(const T* base, I index, M m) {
+  alignas(32) std::int32_t at[kWidth], out[kWidth];
+  std::memcpy(at, &index, sizeof at);
+  const unsigned on = bits(m);
+  for (int n = 0; n < kWidth; ++n)
+    out[n] = (on >> n) & 1u ? std::int32_t(base[at[n]]) : 0;
+  I widened;
+  std::memcpy(&widened, out, sizeof out);
+  return widened;
+}
+
+// GRAD or SHAD words (format::gradientNormal), widened, decoded in the lanes of `m`; `fallback` in the
+// others.
+DNG_LANE_INLINE V3 wordNormalLanes(I word, M m, V3 fallback) {
+  const I mask = splatI((1 << format::kGradientOctBits) - 1);
+  const V3 n = octDecodeLanes(word & mask, shiftRight(word, format::kGradientOctBits) & mask,
+                              splat(2.0f / float((1u << format::kGradientOctBits) - 1)));
+  return {select(m, n.x, fallback.x), select(m, n.y, fallback.y), select(m, n.z, fallback.z)};
+}
+
+// A voxel's shading normal (View::VoxelValue::shading): SHAD's entry `index` in the lanes of `m`, where
+// the file has the section; `normal` (the plane's) elsewhere. SHAD pads to whole 32-bit words
+// (docs/FORMAT.md §5.4), so each lane loads the aligned pair that holds its entry, with one gather
+// instruction where the set has one (a lane-by-lane gather16 cost 9 instructions per particle-step
+// in the step, callgrind), and takes its half.
+DNG_LANE_INLINE V3 shadingLanes(const View& view, I index, M m, V3 normal) {
+  const std::uint16_t* shading = ViewInternals::shading(view);
+  if (shading == nullptr || !any(m)) return normal;
+  const I pair = gather(reinterpret_cast<const std::uint32_t*>(shading), shiftRight(index, 1), m);
+  const I word = select((index & splatI(1)) == splatI(1), shiftRight(pair, 16), pair & splatI(0xFFFF));
+  return wordNormalLanes(word, m, normal);
+}
+
+DNG_LANE_INLINE I denseIndex(const View& view, I i, I j, I k) {
+  const GridInfo& g = view.grid();
+  return (k * splatI(std::int32_t(g.dims[1])) + j) * splatI(std::int32_t(g.dims[0])) + i;
+}
+
 DNG_LANE_INLINE LaneVoxel denseVoxel(const View& view, I i, I j, I k, M m) {
   const GridInfo& g = view.grid();
-  const I voxel = (k * splatI(std::int32_t(g.dims[1])) + j) * splatI(std::int32_t(g.dims[0])) + i;
-  const I at = shiftLeft(voxel, 2); // four floats per voxel: distance, normal
+  const I at = shiftLeft(denseIndex(view, i, j, k), 2); // four floats per voxel: distance, normal
   const float* base = reinterpret_cast<const float*>(ViewInternals::dense(view));
   LaneVoxel v{gather(base, at, m),
               {gather(base, at + splatI(1), m), gather(base, at + splatI(2), m), gather(base, at + splatI(3), m)}};
@@ -131,10 +170,6 @@ DNG_LANE_INLINE BrickedVoxel brickedVoxelAt(const View& view, I i, I j, I k, M m
   return {v, is_brick, is_plane, tile, word_index};
 }
 
-DNG_LANE_INLINE LaneVoxel brickedVoxel(const View& view, I i, I j, I k, M m) {
-  return brickedVoxelAt(view, i, j, k, m).value;
-}
-
 /// p in voxel units (View::toVoxelUnits), and the lanes of `active` inside the grid (a NaN is not).
 DNG_LANE_INLINE M toVoxelUnits(const View& view, V3 p, M active, V3* out_u) {
   const GridInfo& g = view.grid();
@@ -147,8 +182,11 @@ DNG_LANE_INLINE M toVoxelUnits(const View& view, V3 p, M active, V3* out_u) {
          (u.z < splat(dims[2]));
 }
 
-/// View::sample(p) (nearest) for the lanes of `p`. Lanes outside `active` give kNoField.
-template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view, V3 p, M active) {
+/// View::planeSample(p) for the lanes of `p`: the nearest query with the plane's normal, what the
+/// step's walk reads. Lanes outside `active` give kNoField. With kShading, also the normal View::sample
+/// answers with (VoxelValue::shading, zero unless in band) in *out_shading.
+template <bool kDense, bool kShading = false>
+DNG_LANE_INLINE LaneSample nearestLanes(const View& view, V3 p, M active, V3* out_shading = nullptr) {
   const GridInfo& g = view.grid();
   V3 u;
   const M inside = toVoxelUnits(view, p, active, &u);
@@ -156,7 +194,16 @@ template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view,
   // Outside lanes index voxel 0, which every view has, and their gathers are masked off anyway.
   const I i = truncate(select(inside, u.x, zero)), j = truncate(select(inside, u.y, zero)),
           k = truncate(select(inside, u.z, zero));
-  const LaneVoxel v = kDense ? denseVoxel(view, i, j, k, inside) : brickedVoxel(view, i, j, k, inside);
+  LaneVoxel v;
+  I word = splatI(0); // the voxel's SHAD entry, in the lanes of `worded`
+  M worded = inside;
+  if (kDense) {
+    v = denseVoxel(view, i, j, k, inside);
+    if (kShading) word = denseIndex(view, i, j, k);
+  } else {
+    const BrickedVoxel b = brickedVoxelAt(view, i, j, k, inside);
+    v = b.value, word = b.word, worded = b.is_brick; // a plane tile's normal stands for its shading
+  }
 
   const F band = splat(g.band), half = splat(0.5f);
   const M voxel_far = ~(abs(v.distance) < band);
@@ -172,7 +219,18 @@ template <bool kDense> DNG_LANE_INLINE LaneSample nearestLanes(const View& view,
   out.far_inside = andNot(far, out.far_outside);
   out.distance = select(inside, d, splat(std::numeric_limits<float>::infinity()));
   out.normal = select(out.in_band, v.normal, splat(0.0f, 0.0f, 0.0f));
+  if (kShading)
+    *out_shading =
+        select(out.in_band, shadingLanes(view, word, worded & out.in_band, v.normal), splat(0.0f, 0.0f, 0.0f));
   return out;
+}
+
+/// View::sample(p) (nearest) for the lanes of `p`: the plane's distance, the shading normal.
+template <bool kDense> DNG_LANE_INLINE LaneSample nearestShadedLanes(const View& view, V3 p, M active) {
+  V3 shading;
+  LaneSample s = nearestLanes<kDense, true>(view, p, active, &shading);
+  s.normal = shading;
+  return s;
 }
 
 /// The eight voxel centres around the lanes' points (view_sample.cpp Stencil): per axis the lower and
@@ -232,6 +290,18 @@ DNG_LANE_INLINE LaneSample finishLanes(const View& view, M inside, F distance, V
   return out;
 }
 
+// A voxel's value with its shading normal (VoxelValue::shading) in place of the plane's.
+template <bool kDense> DNG_LANE_INLINE LaneVoxel shadedVoxel(const View& view, I i, I j, I k, M m) {
+  if (kDense) {
+    LaneVoxel v = denseVoxel(view, i, j, k, m);
+    v.normal = shadingLanes(view, denseIndex(view, i, j, k), m & (abs(v.distance) < splat(view.grid().band)), v.normal);
+    return v;
+  }
+  BrickedVoxel b = brickedVoxelAt(view, i, j, k, m);
+  b.value.normal = shadingLanes(view, b.word, b.is_brick, b.value.normal);
+  return b.value;
+}
+
 /// View::sample(p, kTrilinear) for the lanes of `p`: the eight corners blended in the scalar order.
 /// Lanes outside `active` give kNoField.
 template <bool kDense> DNG_LANE_INLINE LaneSample trilinearLanes(const View& view, V3 p, M active) {
@@ -243,24 +313,11 @@ template <bool kDense> DNG_LANE_INLINE LaneSample trilinearLanes(const View& vie
   for (int corner = 0; corner < 8; ++corner) {
     const F w = s.weight(corner);
     const I i = s.index(corner, 0), j = s.index(corner, 1), k = s.index(corner, 2);
-    const LaneVoxel v = kDense ? denseVoxel(view, i, j, k, inside) : brickedVoxel(view, i, j, k, inside);
+    const LaneVoxel v = shadedVoxel<kDense>(view, i, j, k, inside);
     distance = distance + w * v.distance;
     normal = normal + v.normal * w;
   }
   return finishLanes(view, inside, distance, normalizeOrZero(normal));
-}
-
-// 16-bit section entries (LIFT, GRAD), widened; lanes where `m` is false give 0. Lane by lane: no set
-// here gathers 16-bit words, and a 32-bit gather could read past the end of the file's last section.
-template <class T> DNG_LANE_INLINE I gather16(const T* base, I index, M m) {
-  alignas(32) std::int32_t at[kWidth], out[kWidth];
-  std::memcpy(at, &index, sizeof at);
-  const unsigned on = bits(m);
-  for (int n = 0; n < kWidth; ++n)
-    out[n] = (on >> n) & 1u ? std::int32_t(base[at[n]]) : 0;
-  I widened;
-  std::memcpy(&widened, out, sizeof out);
-  return widened;
 }
 
 /// One corner of the accurate query (view_sample.cpp Corner): its lifted distance, its normal (GRAD's
@@ -279,15 +336,14 @@ template <bool kDense> DNG_LANE_INLINE LaneCorner accurateCorner(const View& vie
   const std::uint16_t* gradient = ViewInternals::gradient(view);
   const F lift_step = splat(ViewInternals::liftStep(view));
   LaneCorner c;
-  I lift_code = splatI(0), gradient_word = splatI(0);
+  I lift_code = splatI(0), gradient_at = splatI(0);
   M graded;
   if (kDense) {
     const LaneVoxel v = denseVoxel(view, i, j, k, inside);
     c.distance = v.distance, c.normal = v.normal;
     c.in_band = inside & (abs(v.distance) < splat(g.band));
-    const I at = (k * splatI(std::int32_t(g.dims[1])) + j) * splatI(std::int32_t(g.dims[0])) + i;
-    if (lift != nullptr) lift_code = gather16(lift, at, c.in_band);
-    if (gradient != nullptr) gradient_word = gather16(gradient, at, c.in_band);
+    gradient_at = denseIndex(view, i, j, k);
+    if (lift != nullptr) lift_code = gather16(lift, gradient_at, c.in_band);
     graded = c.in_band;
   } else {
     const BrickedVoxel b = brickedVoxelAt(view, i, j, k, inside);
@@ -299,16 +355,12 @@ template <bool kDense> DNG_LANE_INLINE LaneCorner accurateCorner(const View& vie
       const I word_lift = gather16(ViewInternals::liftPool(view), b.word, brick);
       lift_code = select(plane, tile_lift, word_lift);
     }
-    if (gradient != nullptr) gradient_word = gather16(gradient, b.word, brick);
+    gradient_at = b.word;
     graded = brick; // a plane tile's normal is its gradient already
   }
   if (lift != nullptr) c.distance = select(c.in_band, c.distance + toFloat(lift_code) * lift_step, c.distance);
-  if (gradient != nullptr && any(graded)) {
-    const I mask = splatI((1 << format::kGradientOctBits) - 1);
-    const V3 n = octDecodeLanes(gradient_word & mask, shiftRight(gradient_word, format::kGradientOctBits) & mask,
-                                splat(2.0f / float((1u << format::kGradientOctBits) - 1)));
-    c.normal = {select(graded, n.x, c.normal.x), select(graded, n.y, c.normal.y), select(graded, n.z, c.normal.z)};
-  }
+  if (gradient != nullptr && any(graded))
+    c.normal = wordNormalLanes(gather16(gradient, gradient_at, graded), graded, c.normal);
   return c;
 }
 
@@ -402,7 +454,7 @@ DNG_LANE_INLINE void storeSamples(const LaneSample& s, Sample* out) {
 template <bool kDense, Interpolation kMode> DNG_LANE_INLINE LaneSample sampleLanes(const View& view, V3 p) {
   return kMode == Interpolation::kAccurate    ? accurateLanes<kDense>(view, p, allTrue())
          : kMode == Interpolation::kTrilinear ? trilinearLanes<kDense>(view, p, allTrue())
-                                              : nearestLanes<kDense>(view, p, allTrue());
+                                              : nearestShadedLanes<kDense>(view, p, allTrue());
 }
 
 /// View::sampleBatch over strided points, lanes at a time; the tail goes through View::sample. Writes
@@ -419,8 +471,8 @@ void sampleLanesBatch(const View& view, const float* points, std::size_t stride,
     // trilinear and accurate queries already have eight corners to overlap, and gained nothing.
     for (; n + 2 * kWidth <= count; n += 2 * kWidth) {
       const V3 a = loadPoints(bytes, stride, n), b = loadPoints(bytes, stride, n + kWidth);
-      const LaneSample first = nearestLanes<kDense>(view, a, allTrue());
-      const LaneSample second = nearestLanes<kDense>(view, b, allTrue());
+      const LaneSample first = nearestShadedLanes<kDense>(view, a, allTrue());
+      const LaneSample second = nearestShadedLanes<kDense>(view, b, allTrue());
       storeSamples(first, out + n);
       storeSamples(second, out + n + kWidth);
     }

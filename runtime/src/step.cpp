@@ -15,6 +15,7 @@
 #include "pose.h"
 #include "step_batch.h"
 #include "strided.h"
+#include "view_internals.h"
 #include "walk.h"
 
 #include <cmath>
@@ -142,10 +143,12 @@ private:
 void respondToBody(const Body& body, std::size_t index, float dt, ParticleState* io, Touch* io_touch,
                    KeptSamples* io_kept) {
   if (!insideBounds(body, io->position)) return;
-  const Sample s = body.field()->sample(body.toLocal(io->position));
+  // The walk keeps the plane; the rules read the shading normal (the same unless the file has SHAD).
+  Vec3f shading;
+  const Sample s = ViewInternals::planeSample(*body.field(), body.toLocal(io->position), &shading);
   io_kept->keep(index, s);
   if (s.status != SampleStatus::kInBand) return;
-  const Contact contact{s.distance * body.scale(), body.rotateToWorld(s.normal)};
+  const Contact contact{s.distance * body.scale(), body.rotateToWorld(shading)};
   const Vec3f surface = body.surfaceVelocity(io->position);
   Vec3f relative = io->velocity - surface;
   if (respond(body.material(), contact, body.field()->grid().band * body.scale(), dt, &relative)) {

@@ -49,8 +49,15 @@ template <bool kDense> DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, 
   return nearestLanes<kDense>(*b.field, local, active);
 }
 
+/// The walk's sample: the plane (ViewInternals::planeSample).
 DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active) {
   return b.dense ? sampleBody<true>(b, local, active) : sampleBody<false>(b, local, active);
+}
+
+/// The responses' sample: the plane, which the walk keeps, and the shading normal the rules read.
+DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active, V3* out_shading) {
+  return b.dense ? nearestLanes<true, true>(*b.field, local, active, out_shading)
+                 : nearestLanes<false, true>(*b.field, local, active, out_shading);
 }
 
 /// dng::respond (responses.h) on lanes of relative velocity, where `contact` holds. Returns the lanes
@@ -111,12 +118,13 @@ DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, 
     kept->valid[k] = in;
     if (!any(in)) continue;
     kept->local[k] = toLocal(sb.start, p);
-    const LaneSample s = sampleBody(sb, kept->local[k], in);
+    V3 shading;
+    const LaneSample s = sampleBody(sb, kept->local[k], in, &shading);
     kept->sample[k] = s;
     const M contact = in & s.in_band;
     if (!any(contact)) continue;
     const F d = s.distance * splat(sb.start.scale);
-    const V3 n = rotateToWorld(sb.start, s.normal);
+    const V3 n = rotateToWorld(sb.start, shading);
     const Vec3f lin = sb.linear, ang = sb.angular;
     const V3 surface = splat(lin.x, lin.y, lin.z) +
                        cross(splat(ang.x, ang.y, ang.z), p - splat(sb.start.t.x, sb.start.t.y, sb.start.t.z));

@@ -18,6 +18,14 @@ struct ViewInternals {
   static const std::int16_t* liftPool(const View& v) { return v.lift_pool_; }
   static float liftStep(const View& v) { return v.lift_step_; }
   static const std::uint16_t* gradient(const View& v) { return v.gradient_; }
+  static const std::uint16_t* shading(const View& v) { return v.shading_; }
+  /// View::sample(p) (nearest) with the plane's normal in place of a shading one: the step's walk
+  /// reads the planes the bake made conservative (docs/FORMAT.md §5.4). `out_shading`, when not null,
+  /// gets the normal sample(p) would give: what the responses read.
+  static Sample planeSample(const View& v, Vec3f p, Vec3f* out_shading = nullptr) {
+    Vec3f unused;
+    return v.planeSample(p, out_shading != nullptr ? out_shading : &unused);
+  }
 };
 
 } // namespace dng

@@ -43,7 +43,8 @@ public:
     if (s == Status::kOk) s = checkGrid();
     if (s == Status::kOk) s = grid_.encoding == fmt::Encoding::kDense ? checkDense() : checkBricked();
     if (s == Status::kOk) s = checkLift();
-    if (s == Status::kOk) s = checkGradient();
+    if (s == Status::kOk) s = checkWordNormals(gradient_section_, "V20", false, &view_.gradient_);
+    if (s == Status::kOk) s = checkWordNormals(shading_section_, "V21", true, &view_.shading_);
     if (s != Status::kOk) return s;
     view_.data_ = data_;
     view_.size_ = size_;
@@ -152,6 +153,7 @@ private:
     case fmt::kTagBrickPool: return &pool_section_;
     case fmt::kTagLift: return &lift_section_;
     case fmt::kTagGradient: return &gradient_section_;
+    case fmt::kTagShading: return &shading_section_;
     default: return nullptr;
     }
   }
@@ -161,14 +163,15 @@ private:
   Status checkBricked();
   Status checkTopEntries(std::uint64_t pool_bricks);
   Status checkLift();
-  Status checkGradient();
+  Status checkWordNormals(const Found& section, const char* rule, bool padded, const std::uint16_t** out);
 
   const std::uint8_t* data_;
   std::size_t size_;
   Diagnostic* diag_;
   fmt::FileHeader header_{};
   std::uint64_t table_end_ = 0;
-  Found grid_section_, meta_section_, dense_section_, top_section_, pool_section_, lift_section_, gradient_section_;
+  Found grid_section_, meta_section_, dense_section_, top_section_, pool_section_, lift_section_, gradient_section_,
+      shading_section_;
   GridInfo grid_;
   View view_;
 };
@@ -319,17 +322,19 @@ Status ViewBuilder::checkLift() {
   return Status::kOk;
 }
 
-// V20 (1.2): the optional GRAD section holds one u16 per voxel (dense) or per pool word (bricked);
-// every u16 is a valid octahedral normal.
-Status ViewBuilder::checkGradient() {
-  if (!gradient_section_.present) return Status::kOk;
-  const std::uint64_t entries = grid_.encoding == fmt::Encoding::kDense
-                                    ? dense_section_.copy.size / sizeof(fmt::DenseVoxel)
-                                    : pool_section_.copy.size / 4;
-  if (gradient_section_.copy.size != entries * 2)
-    return fail(Status::kBadPayloadSize, "V20", "GRAD has %llu bytes, the grid needs %llu normals of 2 bytes",
-                (unsigned long long)gradient_section_.copy.size, (unsigned long long)entries);
-  view_.gradient_ = reinterpret_cast<const std::uint16_t*>(at(gradient_section_.copy.offset));
+// V20 (1.2) and V21 (1.3): the optional GRAD and SHAD sections hold one u16 per voxel (dense) or per
+// pool word (bricked); every u16 is a valid octahedral normal. SHAD pads to an even count, so the SIMD
+// kernels may read it 32 bits at a time (sample_lanes.h shadingLanes).
+Status ViewBuilder::checkWordNormals(const Found& section, const char* rule, bool padded, const std::uint16_t** out) {
+  if (!section.present) return Status::kOk;
+  std::uint64_t entries = grid_.encoding == fmt::Encoding::kDense ? dense_section_.copy.size / sizeof(fmt::DenseVoxel)
+                                                                  : pool_section_.copy.size / 4;
+  if (padded) entries += entries % 2;
+  if (section.copy.size != entries * 2)
+    return fail(Status::kBadPayloadSize, rule, "%.4s has %llu bytes, the grid needs %llu normals of 2 bytes",
+                reinterpret_cast<const char*>(&section.copy.tag), (unsigned long long)section.copy.size,
+                (unsigned long long)entries);
+  *out = reinterpret_cast<const std::uint16_t*>(at(section.copy.offset));
   return Status::kOk;
 }
 

@@ -60,14 +60,17 @@ DNG_FORCE_INLINE bool View::toVoxelUnits(Vec3f p, float out_u[3]) const {
          out_u[2] < dims_f_[2];
 }
 
-// Distance and normal at the centre of voxel (i, j, k), without refinement. Far voxels read as +-band
-// with a zero normal in both encodings.
+// Distance and normals at the centre of voxel (i, j, k), without refinement. Far voxels read as +-band
+// with zero normals in both encodings. A caller that leaves `shading` unused pays nothing for it: the
+// helpers are inlined and the load is dead.
 template <>
 DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kDense>(std::uint32_t i, std::uint32_t j,
                                                                           std::uint32_t k) const {
-  const fmt::DenseVoxel& v = dense_[(std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i];
-  if (!(std::fabs(v.distance) < grid_.band)) return {std::copysign(grid_.band, v.distance), Vec3f{}};
-  return {v.distance, {v.normal[0], v.normal[1], v.normal[2]}};
+  const std::size_t at = (std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i;
+  const fmt::DenseVoxel& v = dense_[at];
+  if (!(std::fabs(v.distance) < grid_.band)) return {std::copysign(grid_.band, v.distance), Vec3f{}, Vec3f{}};
+  const Vec3f n{v.normal[0], v.normal[1], v.normal[2]};
+  return {v.distance, n, shading_ != nullptr ? fmt::gradientNormal(shading_[at]) : n};
 }
 
 // The same for a bricked voxel whose tile's top entry the caller has read.
@@ -76,10 +79,13 @@ DNG_FORCE_INLINE View::VoxelValue View::brickedValue(std::uint64_t entry, std::u
   const std::uint32_t s = brick_log2_;
   const fmt::TileKind kind = fmt::entryKind(entry);
   if (kind == fmt::TileKind::kBrick) { // the common case near a curved surface
-    const std::uint32_t word = pool_[poolWordOf(entry, s, i, j, k)];
+    const std::size_t at = poolWordOf(entry, s, i, j, k);
+    const std::uint32_t word = pool_[at];
     const float lo = fmt::rangeValue(fmt::entryLo16(entry), grid_.band, range_step_);
     const float hi = fmt::rangeValue(fmt::entryHi16(entry), grid_.band, range_step_);
-    return {fmt::wordDistance(word, lo, hi, fmt::brickDistanceStep(lo, hi)), fmt::wordNormal(word)};
+    const Vec3f n = fmt::wordNormal(word);
+    return {fmt::wordDistance(word, lo, hi, fmt::brickDistanceStep(lo, hi)), n,
+            shading_ != nullptr ? fmt::gradientNormal(shading_[at]) : n};
   }
   if (kind == fmt::TileKind::kPlane) {
     // The plane is anchored at the tile centre, (tile * B + B/2) in voxel units.
@@ -87,10 +93,10 @@ DNG_FORCE_INLINE View::VoxelValue View::brickedValue(std::uint64_t entry, std::u
     const std::uint32_t base = ~((1u << s) - 1);
     const Vec3f from_centre{float(i) + 0.5f - (float(i & base) + half), float(j) + 0.5f - (float(j & base) + half),
                             float(k) + 0.5f - (float(k & base) + half)};
-    const Vec3f n = fmt::entryPlaneNormal(entry);
-    return {fmt::entryPlaneDistance(entry) + grid_.voxel_size * dot(n, from_centre), n};
+    const Vec3f n = fmt::entryPlaneNormal(entry); // stands for the tile's shading normals (§5.4)
+    return {fmt::entryPlaneDistance(entry) + grid_.voxel_size * dot(n, from_centre), n, n};
   }
-  return {kind == fmt::TileKind::kFarOutside ? grid_.band : -grid_.band, Vec3f{}};
+  return {kind == fmt::TileKind::kFarOutside ? grid_.band : -grid_.band, Vec3f{}, Vec3f{}};
 }
 
 template <>
@@ -99,7 +105,8 @@ DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kBricked>(std:
   return brickedValue(top_[tileOf(grid_, brick_log2_, i, j, k)], i, j, k);
 }
 
-template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearest(Vec3f p) const {
+template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearest(Vec3f p, Vec3f* out_shading) const {
+  *out_shading = Vec3f{};
   float u[3];
   if (!toVoxelUnits(p, u)) return noField();
   const auto i = std::uint32_t(u[0]);
@@ -109,7 +116,26 @@ template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearest(Vec3f p
   if (!(std::fabs(v.distance) < grid_.band)) return finish(v.distance, Vec3f{});
   // Plane refinement; for plane tiles this is exactly the tile's plane evaluated at p.
   const Vec3f within{u[0] - float(i) - 0.5f, u[1] - float(j) - 0.5f, u[2] - float(k) - 0.5f};
-  return finish(v.distance + grid_.voxel_size * dot(v.normal, within), v.normal);
+  const Sample s = finish(v.distance + grid_.voxel_size * dot(v.normal, within), v.normal);
+  if (s.status == SampleStatus::kInBand) *out_shading = v.shading;
+  return s;
+}
+
+// What sample() answers: the plane's distance, the shading normal.
+template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearestShaded(Vec3f p) const {
+  Vec3f shading;
+  Sample s = nearest<kEncoding>(p, &shading);
+  s.normal = shading;
+  return s;
+}
+
+Sample View::planeSample(Vec3f p, Vec3f* out_shading) const {
+  if (!valid()) {
+    *out_shading = Vec3f{};
+    return noField();
+  }
+  return dense_ != nullptr ? nearest<fmt::Encoding::kDense>(p, out_shading)
+                           : nearest<fmt::Encoding::kBricked>(p, out_shading);
 }
 
 namespace {
@@ -155,7 +181,7 @@ template <fmt::Encoding kEncoding> Sample View::trilinear(Vec3f p) const {
     const float w = s.weight(corner);
     const VoxelValue v = voxelValue<kEncoding>(s.index(corner, 0), s.index(corner, 1), s.index(corner, 2));
     distance += w * v.distance;
-    normal = normal + v.normal * w;
+    normal = normal + v.shading * w;
   }
   return finish(distance, normalizeOrZero(normal));
 }
@@ -269,7 +295,7 @@ Sample View::sample(Vec3f p, Interpolation mode) const {
     return dense ? accurate<fmt::Encoding::kDense>(p) : accurate<fmt::Encoding::kBricked>(p);
   if (mode == Interpolation::kTrilinear)
     return dense ? trilinear<fmt::Encoding::kDense>(p) : trilinear<fmt::Encoding::kBricked>(p);
-  return dense ? nearest<fmt::Encoding::kDense>(p) : nearest<fmt::Encoding::kBricked>(p);
+  return dense ? nearestShaded<fmt::Encoding::kDense>(p) : nearestShaded<fmt::Encoding::kBricked>(p);
 }
 
 namespace {
@@ -311,9 +337,11 @@ void View::sampleBatch(const float* points, std::size_t point_stride_bytes, std:
   } else if (mode == Interpolation::kTrilinear) {
     forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return trilinear<fmt::Encoding::kBricked>(p); });
   } else if (dense_ != nullptr) {
-    forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return nearest<fmt::Encoding::kDense>(p); });
+    forEachPoint(points, stride, count, out_samples,
+                 [this](Vec3f p) { return nearestShaded<fmt::Encoding::kDense>(p); });
   } else {
-    forEachPoint(points, stride, count, out_samples, [this](Vec3f p) { return nearest<fmt::Encoding::kBricked>(p); });
+    forEachPoint(points, stride, count, out_samples,
+                 [this](Vec3f p) { return nearestShaded<fmt::Encoding::kBricked>(p); });
   }
 }
 

@@ -2,6 +2,7 @@
 // only, so a fast or grazing particle can pass through an edge or a thin part between two tests.
 #include "walk.h"
 #include "step_batch.h"
+#include "view_internals.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,9 @@
 namespace dng {
 
 namespace {
+
+// The walk reads the planes, which the bake made conservative; a shading normal (SHAD) bounds nothing.
+Sample planeAt(const View& field, Vec3f p) { return ViewInternals::planeSample(field, p); }
 
 bool insideGrid(const GridInfo& g, Vec3f p) {
   for (int axis = 0; axis < 3; ++axis) {
@@ -115,7 +119,7 @@ float neighbourBound(const View& field, float reach, const NeighbourPoints& poin
   if (kernels != nullptr && batchIndexable(field)) return kernels->neighbour_bound(field, points, reach, out_terms);
   float best = -reach;
   for (int k = 0; k < NeighbourPoints::kCount; ++k) {
-    const Sample s = field.sample({points.x[k], points.y[k], points.z[k]});
+    const Sample s = planeAt(field, {points.x[k], points.y[k], points.z[k]});
     out_terms[k] = -std::numeric_limits<float>::infinity();
     if (s.status == SampleStatus::kFarInside) continue;
     const float value = s.status == SampleStatus::kNoField ? reach : std::min(s.distance, reach);
@@ -143,7 +147,7 @@ float slideEnd(const View& field, const NeighbourPoints& points, const float* te
     ++best;
   if (best == NeighbourPoints::kCount) return t;
   const Vec3f c{points.x[best], points.y[best], points.z[best]};
-  const Sample s = field.sample(c);
+  const Sample s = planeAt(field, c);
   if (s.status != SampleStatus::kInBand) return t; // a far cell's value need not follow one plane
   const GridInfo& g = field.grid();
   const float inv_h = 1.0f / g.voxel_size;
@@ -162,7 +166,7 @@ float slideEnd(const View& field, const NeighbourPoints& points, const float* te
 
 // The best lower bound of the distance at p the field gives: its own plane, or its neighbours'.
 float fieldBound(const View& field, float reach, Vec3f p) {
-  const Sample s = field.sample(p);
+  const Sample s = planeAt(field, p);
   if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return reach;
   if (s.status == SampleStatus::kInBand && s.distance >= 0.0f) return std::min(s.distance, reach);
   return neighbourBound(field, reach, p);
@@ -206,10 +210,10 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   float t = 0.0f, t_end = 1.0f;
   if (!(len > 0.0f) || !clipToGrid(g, a, d, &t, &t_end)) return {};
   const float proof_level = walkProofLevel(field);
-  const Sample start = first != nullptr ? *first : field.sample(a);
+  const Sample start = first != nullptr ? *first : planeAt(field, a);
   first = &start;
   if (t == 0.0f && t_end == 1.0f && provesBall(start) &&
-      twoBallsClear(start, field.sample(a + d), reach, margin, proof_level, len))
+      twoBallsClear(start, planeAt(field, a + d), reach, margin, proof_level, len))
     return {};
   const float inv_h = 1.0f / g.voxel_size;
   // Steps past a cell wall land in the next cell: a fraction of a voxel, far below any margin.
@@ -224,7 +228,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   for (int n = 0; n < max_samples; ++n) {
     if (t >= t_end) return {};
     const Vec3f p = a + d * t;
-    const Sample s = n == 0 && t == 0.0f && first != nullptr ? *first : field.sample(p);
+    const Sample s = n == 0 && t == 0.0f && first != nullptr ? *first : planeAt(field, p);
     if (s.status == SampleStatus::kNoField) { // rounding at a face of the grid
       t += nudge;
       continue;
@@ -235,7 +239,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
     if (clear >= (t_end - t) * len) { // one ball covers the rest: the end must be provable too
       if (clear - (t_end - t) * len >= roomy) return {};
       const Vec3f end = a + d * t_end;
-      if (provable(field, reach, proof_level, end, field.sample(end))) return {};
+      if (provable(field, reach, proof_level, end, planeAt(field, end))) return {};
       // Clear, but the next step could not prove the end outside again (beside an edge the planes
       // cannot resolve): turn back from the last point it can.
       return stopAt(WalkStop::kReverse, last_proof(), back);

@@ -40,36 +40,55 @@ format::DenseField loweredBoxField() {
   return field;
 }
 
-std::vector<std::uint8_t> smallBrickedBoxLifted() {
+namespace {
+
+// A field encoded as smallBrickedBox is, bricks of 4, with `metadata`.
+std::vector<std::uint8_t> encodedAsTheBox(const format::DenseField& field, const char* metadata) {
   format::BrickOptions options;
   options.brick_size = 4;
-  const auto result = format::encodeBricked(loweredBoxField(), options, R"({"test":"small bricked box, lifted"})");
+  const auto result = format::encodeBricked(field, options, metadata);
   if (!result.ok()) throw std::runtime_error(result.error);
   return result.bytes;
 }
 
-void blurNormalsKeepingTheGradient(format::DenseField* field) {
-  const format::GridGeometry& g = field->grid;
-  field->gradient = field->normal;
+std::vector<Vec3f> tiltedNormals(const format::DenseField& field) {
+  const format::GridGeometry& g = field.grid;
+  std::vector<Vec3f> tilted = field.normal;
   for (std::uint32_t k = 0; k < g.dims[2]; ++k)
     for (std::uint32_t j = 0; j < g.dims[1]; ++j)
       for (std::uint32_t i = 0; i < g.dims[0]; ++i) {
-        Vec3f& n = field->normal[g.index(i, j, k)];
+        Vec3f& n = tilted[g.index(i, j, k)];
         if (dot(n, n) == 0.0f) continue;
         const Vec3f c = g.voxelCentre(i, j, k) * (1.0f / g.voxel_size);
         const Vec3f tilt{std::sin(0.7f * c.y + 0.3f), std::sin(0.5f * c.z - 0.8f), std::sin(0.6f * c.x + 1.1f)};
         n = normalizeOrZero(n + tilt * 0.3f);
       }
+  return tilted;
+}
+
+} // namespace
+
+std::vector<std::uint8_t> smallBrickedBoxLifted() {
+  return encodedAsTheBox(loweredBoxField(), R"({"test":"small bricked box, lifted"})");
+}
+
+void blurNormalsKeepingTheGradient(format::DenseField* field) {
+  field->gradient = field->normal;
+  field->normal = tiltedNormals(*field);
+}
+
+void addTiltedShading(format::DenseField* field) { field->shading = tiltedNormals(*field); }
+
+std::vector<std::uint8_t> smallBrickedBoxShaded() {
+  format::DenseField field = loweredBoxField();
+  addTiltedShading(&field);
+  return encodedAsTheBox(field, R"({"test":"small bricked box, lifted and shaded"})");
 }
 
 std::vector<std::uint8_t> smallBrickedBoxGraded() {
   format::DenseField field = loweredBoxField();
   blurNormalsKeepingTheGradient(&field);
-  format::BrickOptions options;
-  options.brick_size = 4;
-  const auto result = format::encodeBricked(field, options, R"({"test":"small bricked box, lifted and graded"})");
-  if (!result.ok()) throw std::runtime_error(result.error);
-  return result.bytes;
+  return encodedAsTheBox(field, R"({"test":"small bricked box, lifted and graded"})");
 }
 
 std::vector<std::uint8_t> smallDensePlane() {

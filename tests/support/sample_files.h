@@ -31,6 +31,11 @@ std::vector<std::uint8_t> smallBrickedBoxLifted();
 void blurNormalsKeepingTheGradient(format::DenseField* field);
 /// loweredBoxField() with blurNormalsKeepingTheGradient, encoded as smallBrickedBox is, with metadata.
 std::vector<std::uint8_t> smallBrickedBoxGraded();
+/// `field`'s normals tilted as blurNormalsKeepingTheGradient tilts them, kept as its shading normals
+/// (the normals stay): encoded, it has a SHAD section, as a 1.3 blurred bake has.
+void addTiltedShading(format::DenseField* field);
+/// loweredBoxField() with addTiltedShading, encoded as smallBrickedBox is, with metadata.
+std::vector<std::uint8_t> smallBrickedBoxShaded();
 
 /// Byte offset of the table entry of the first section with `tag`, or 0 when absent.
 std::size_t entryOffset(const std::vector<std::uint8_t>& bytes, std::uint32_t tag);

@@ -28,8 +28,12 @@ enum class SampleStatus : std::uint32_t {
 };
 
 enum class Interpolation : std::uint32_t {
-  kNearest = 0,   ///< the containing voxel, its distance refined by its own plane (paper §3.1)
-  kTrilinear = 1, ///< trilinear blend of the eight surrounding voxel centres, normal renormalized
+  /// The containing voxel, its distance refined by its own plane (paper §3.1); the normal is the
+  /// voxel's shading normal (SHAD section) where the file has one, else its plane's.
+  kNearest = 0,
+  /// Trilinear blend of the eight surrounding voxel centres (shading normals where the file has them),
+  /// normal renormalized.
+  kTrilinear = 1,
   /// The closest to the true distance and normal (docs/RUNTIME.md, "Accurate queries"): the eight
   /// surrounding voxels' distances, lifted back from the conservative lowering when the file has a LIFT
   /// section, each corrected by half its plane's slope towards p (the distance's own gradient from a
@@ -99,6 +103,10 @@ public:
   /// True when the file carries a GRAD section (format 1.2): the distance's own gradient beside blurred
   /// normals, which kAccurate queries use in place of the stored normals.
   bool hasGradient() const { return gradient_ != nullptr; }
+  /// True when the file carries a SHAD section (format 1.3): the planes are the distance's own and
+  /// the normals of the bake's mode (blurred, potential) sit beside them. kNearest and kTrilinear
+  /// queries, and stepParticles' responses, read these; the step's walk trusts the planes.
+  bool hasShading() const { return shading_ != nullptr; }
   const TileCounts& tileCounts() const { return tiles_; }
   std::uint16_t versionMajor() const { return version_major_; }
   std::uint16_t versionMinor() const { return version_minor_; }
@@ -112,10 +120,15 @@ private:
   friend struct ViewInternals; // the SIMD batch kernels read the decoded layout (view_internals.h)
   struct VoxelValue {
     float distance;
-    Vec3f normal;
+    Vec3f normal;  ///< the plane's
+    Vec3f shading; ///< SHAD's where the file has one (plane tiles: the plane's), else the plane's
   };
   // Query helpers, defined (and inlined) in view_sample.cpp, specialised per encoding.
-  template <format::Encoding kEncoding> Sample nearest(Vec3f p) const;
+  // nearest answers with the plane's normal, what the step's walk reads (ViewInternals::planeSample),
+  // and writes the shading normal (zero unless in band), which sample() answers with.
+  template <format::Encoding kEncoding> Sample nearest(Vec3f p, Vec3f* out_shading) const;
+  template <format::Encoding kEncoding> Sample nearestShaded(Vec3f p) const;
+  Sample planeSample(Vec3f p, Vec3f* out_shading) const;
   template <format::Encoding kEncoding> Sample trilinear(Vec3f p) const;
   template <format::Encoding kEncoding> Sample accurate(Vec3f p) const;
   template <format::Encoding kEncoding> VoxelValue voxelValue(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
@@ -149,6 +162,7 @@ private:
   const std::int16_t* lift_pool_ = nullptr; // bricked: per pool word, after the tiles' lifts
   float lift_step_ = 0.0f;                  // format::liftStep(band)
   const std::uint16_t* gradient_ = nullptr; // GRAD: per voxel (dense) or per pool word (bricked)
+  const std::uint16_t* shading_ = nullptr;  // SHAD: the same
 };
 
 } // namespace dng

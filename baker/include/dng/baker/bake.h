@@ -78,9 +78,8 @@ struct BakeOptions {
   format::BrickOptions brick;
   std::uint32_t threads = 0; ///< 0 = all cores; the output never depends on it
   /// Write the LIFT section: what takes the lowered (conservative) distances back to the accurate ones
-  /// for Interpolation::kAccurate queries, and in the blurred modes the GRAD section, the distance's own
-  /// gradient beside the blurred normals. Together about half of a bricked normal-blur file (a third
-  /// in exact mode); the step never reads either.
+  /// for Interpolation::kAccurate queries. About a third of a bricked file; the step never reads it.
+  /// (The blurred modes' SHAD section, their normals beside the distance's own, is always written.)
   bool lift = true;
 };
 

@@ -142,12 +142,12 @@ inline std::int16_t liftCode(float lift, float band) {
   return std::int16_t(code > 32767.0f ? 32767.0f : code < -32767.0f ? -32767.0f : code);
 }
 
-/// GRAD words (since 1.2): octahedral u in bits 0-7 and v in bits 8-15, so every word is a valid unit
+/// GRAD and SHAD words (since 1.2 and 1.3): octahedral u in bits 0-7 and v in bits 8-15, so every word is a valid unit
 /// normal. Within 0.63 degrees (tests/codec_test.cpp): the accurate query's half-plane correction scales a normal's
 /// error by at most half a voxel, and measured on real meshes 8 bits a side read as 16 do (bench/accuracy_bench).
 inline constexpr int kGradientOctBits = 8;
 
-/// The GRAD word of a normal; a zero or non-finite normal (a far voxel's) encodes +z.
+/// The GRAD or SHAD word of a normal; a zero or non-finite normal (a far voxel's) encodes +z.
 inline std::uint16_t gradientWord(Vec3f n) {
   std::uint32_t qu = 0, qv = 0;
   octEncode(n, kGradientOctBits, &qu, &qv);

@@ -44,6 +44,10 @@ struct DenseField {
   /// unknown) when `normal` holds something else, such as blurred normals. When present the writers
   /// add a GRAD section.
   std::vector<Vec3f> gradient;
+  /// Optional: empty, or one entry per voxel holding the normal the field's mode gives (unit, or zero
+  /// where unknown) when `normal` holds the distance's own gradient, the plane the runtime's walk
+  /// trusts. When present the writers add a SHAD section; queries and responses read these normals.
+  std::vector<Vec3f> shading;
 
   /// Sizes both arrays for `geometry`, far outside (+band) with zero normals.
   void reset(const GridGeometry& geometry) {
@@ -52,6 +56,7 @@ struct DenseField {
     normal.assign(grid.voxelCount(), Vec3f{});
     accurate.clear();
     gradient.clear();
+    shading.clear();
   }
 };
 

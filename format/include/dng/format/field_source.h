@@ -51,6 +51,15 @@ public:
     (void)box;
     (void)gradient;
   }
+  /// True when readShading() has values: the encoders then write a SHAD section (docs/FORMAT.md §5.4).
+  virtual bool hasShading() const { return false; }
+  /// Writes box.count() unit normals of the field's mode (zero where unknown), for sources whose read()
+  /// normals are the distance's gradient but whose users want others (blurred). Called only when
+  /// hasShading(); threading as read().
+  virtual void readShading(const VoxelBox& box, Vec3f* shading) const {
+    (void)box;
+    (void)shading;
+  }
   /// A shortcut for empty space: kUnknown unless the source knows the whole box is far on one side.
   /// A source may always answer kUnknown; a wrong answer other than kUnknown is a bug.
   virtual FarHint farHint(const VoxelBox& box) const {
@@ -72,6 +81,8 @@ public:
   void readAccurate(const VoxelBox& box, float* distance) const override { copyBox(field_.accurate, box, distance); }
   bool hasGradient() const override { return !field_.gradient.empty(); }
   void readGradient(const VoxelBox& box, Vec3f* gradient) const override { copyBox(field_.gradient, box, gradient); }
+  bool hasShading() const override { return !field_.shading.empty(); }
+  void readShading(const VoxelBox& box, Vec3f* shading) const override { copyBox(field_.shading, box, shading); }
 
 private:
   // The box's entries of one per-voxel array, x fastest.

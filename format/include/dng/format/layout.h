@@ -22,7 +22,7 @@ inline constexpr unsigned char kMagic[8] = {0x89, 'D', 'N', 'G', '\r', '\n', 0x1
 /// A major bump breaks compatibility; a minor bump only adds (new optional sections, new fields in
 /// reserved bytes that older readers may ignore).
 inline constexpr std::uint16_t kVersionMajor = 1;
-inline constexpr std::uint16_t kVersionMinor = 2; ///< 1.1: GridSection::flags; 1.2: LIFT and GRAD
+inline constexpr std::uint16_t kVersionMinor = 3; ///< 1.1: GridSection::flags; 1.2: LIFT and GRAD; 1.3: SHAD
 
 inline constexpr std::uint32_t kHeaderSize = 128;
 inline constexpr std::uint32_t kSectionAlignment = 64;
@@ -50,6 +50,12 @@ inline constexpr std::uint32_t kTagLift = makeTag('L', 'I', 'F', 'T');
 /// blurred modes), for the accurate query (docs/FORMAT.md §5.3). One u16 octahedral normal
 /// (gradientWord, codec.h) per BPOL word (bricked) or per voxel (dense), in their orders.
 inline constexpr std::uint32_t kTagGradient = makeTag('G', 'R', 'A', 'D');
+/// Optional, since 1.3: the normals of the field's mode (blurred, potential gradient) where the stored
+/// planes carry the distance's own gradient, for the responses and the queries' normals
+/// (docs/FORMAT.md §5.4). One u16 octahedral normal (gradientWord, codec.h) per BPOL word (bricked) or
+/// per voxel (dense), in their orders, then one u16 of zero padding when the count is odd, so that
+/// readers may load the section 32 bits at a time. A reader that ignores it reads the planes' normals.
+inline constexpr std::uint32_t kTagShading = makeTag('S', 'H', 'A', 'D');
 
 /// File header: 128 bytes at offset 0.
 struct FileHeader {
