@@ -29,8 +29,9 @@ struct Data {
   const format::DenseField& field = bench::sphereScene().field;
   const View& dense = bench::sphereScene().dense;
   const View& bricked = bench::sphereScene().bricked;
-  // The same field with LIFT and GRAD sections, as dngbake writes beside blurred normals: what the
-  // accurate query reads (here the lifts are zero and the gradients the normals; the reads are real).
+  // The same field with LIFT and SHAD sections, as dngbake writes a blurred mode's bake (format 1.3):
+  // what the accurate query reads (LIFT), and the shading normals the nearest and trilinear queries read
+  // (here the lifts are zero and the shading normals the normals; the reads are real).
   std::vector<std::uint8_t> dense_extra_bytes, bricked_extra_bytes;
   View dense_extra, bricked_extra;
   std::vector<Vec3f> coherent, random;
@@ -62,7 +63,7 @@ const Data& data() {
     auto* d = new Data;
     format::DenseField extra = d->field;
     extra.accurate = extra.distance;
-    extra.gradient = extra.normal;
+    extra.shading = extra.normal;
     d->dense_extra_bytes = format::encodeDense(extra, "").bytes;
     d->bricked_extra_bytes = format::encodeBricked(extra, {}, "").bytes;
     View::open(d->dense_extra_bytes.data(), d->dense_extra_bytes.size(), &d->dense_extra);
@@ -95,15 +96,16 @@ void reportPerQuery(benchmark::State& state, std::size_t count) {
       benchmark::Counter(double(count), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// Arguments: encoding (0 dense, 1 bricked), interpolation (0 nearest, 1 trilinear, 2 accurate, on the field
-// with LIFT and GRAD sections), order (0 coherent, 1 random),
+// Arguments: encoding (0 dense, 1 bricked), query (0 nearest, 1 trilinear; on the field with LIFT and SHAD
+// sections: 2 accurate, 3 nearest, 4 trilinear), order (0 coherent, 1 random),
 // path (0 the best SIMD kernels of this CPU, 1 the scalar reference, whose samples are bit for bit the same).
 void BM_Sample(benchmark::State& state) {
   const Data& d = data();
   const InstructionSet before = activeInstructionSet();
   setInstructionSet(state.range(3) == 0 ? bestInstructionSet() : InstructionSet::kScalar);
-  const auto mode = Interpolation(state.range(1));
-  const bool extra = mode == Interpolation::kAccurate;
+  const auto query = int(state.range(1));
+  const bool extra = query >= 2;
+  const auto mode = Interpolation(query >= 3 ? query - 3 : query);
   const View& view = state.range(0) == 0 ? (extra ? d.dense_extra : d.dense) : (extra ? d.bricked_extra : d.bricked);
   const std::vector<Vec3f>& points = state.range(2) == 0 ? d.coherent : d.random;
   std::vector<Sample> out(points.size());
@@ -113,12 +115,12 @@ void BM_Sample(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   setInstructionSet(before);
-  static const char* const kModes[] = {" nearest", " trilinear", " accurate"};
+  static const char* const kModes[] = {" nearest", " trilinear", " accurate", " nearest+SHAD", " trilinear+SHAD"};
   state.SetLabel(std::string(state.range(0) ? "bricked" : "dense") + kModes[state.range(1)] +
                  (state.range(2) ? " random" : " coherent") + (state.range(3) ? " scalar" : " simd"));
   reportPerQuery(state, points.size());
 }
-BENCHMARK(BM_Sample)->ArgsProduct({{0, 1}, {0, 1, 2}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Sample)->ArgsProduct({{0, 1}, {0, 1, 2, 3, 4}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 // Baseline: the voxel's float4 from a bare array, bounds-checked, no refinement.
 void BM_RawArray(benchmark::State& state) {

@@ -156,7 +156,8 @@ def table1_section(path, table_mesh="fandisk"):
     print("*Crossings*: after the timed runs the same simulation is replayed untimed and every step's segment, "
           "from before to after the method's move, is tested against the original triangles with Embree; a "
           "segment that meets any triangle counts. *Memory*: the mapped `.dng`, baked with `--no-lift` (the step "
-          "never reads the LIFT and GRAD sections, which add up to as much again for accurate queries); Embree's vertex, index and BVH "
+          "never reads the LIFT section, which adds about a third for accurate queries; the normal-blur bakes "
+          "carry their SHAD section, which the responses read); Embree's vertex, index and BVH "
           "allocations as its memory-monitor callback reported them; the NanoVDB grid buffer. Particles (24 bytes "
           "each) come on top for every method.\n")
     header = "| method |" + "".join(" ns/particle-step (%s) | vs no collision | vs Embree best |" % format(n, ",")
@@ -197,18 +198,16 @@ def table1_section(path, table_mesh="fandisk"):
               "so fewer particles need the walk's neighbour bound; the blurred modes give smoother normals for "
               "drag and flow (docs/BAKING.md)." % (exact, best["ns"] / exact, exact / r("plain")))
     print("\n*Where the time goes* (a profile, not part of this run: callgrind on `bench/swarm_hash --lifetime 8 "
-          "--near 0.1 --speed 0.6`, a swarm kept near `fandisk.off` as this one is, 20,000 particles, 16 steps: "
-          "about 380 instructions per particle-step). Every particle here stays within 2 voxels of the surface, so "
-          "almost none is settled by its first sample alone. The responses (a sample and the rules) take 26% of "
-          "the instructions; the balls (the end's sample and the two-ball test) 27%; the walks that need cells, set "
-          "aside and walked together a register at a time, 6%; loading, storing and bookkeeping 11%. The other "
-          "27% go to 1.4% of the particle-steps, handed to the scalar walk at about 7,500 instructions each: 98% "
-          "of them are cramped beside sharp edges, where the own cell's plane reads below the margin outside the "
-          "surface (the plane of the other face, tilted further by the blurred normal), not stopped by the "
-          "surface, and the walk needs its neighbour bound, 26 samples (about 1,700 instructions, taken in lanes), "
-          "2.2 times per walk on average. An exact-mode bake hands over 4.2 times fewer. What Embree pays for a short "
-          "segment near a 12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample, "
-          "and this scene needs at least two samples per particle-step.")
+          "--near 0.1 --speed 0.6`, a swarm kept near `fandisk.off` as this one is, 20,000 particles, 16 steps). "
+          "Every particle here stays within 2 voxels of the surface, so almost none is settled by its first sample "
+          "alone, and each particle-step takes the response's sample and at least one more to prove its move. The "
+          "normal-blur bake takes 266 instructions per particle-step, the exact one 248; a format 1.2 normal-blur "
+          "bake, whose planes followed its blurred normals, took 330, 27% of them in the 1.4% of particle-steps "
+          "handed to the scalar walk because the planes beside sharp edges read below its margin. That share is "
+          "12% now. The two modes' instructions differ by 7% and their times above by more; what differs besides "
+          "is memory: the blurred file has more bricks (87 plane tiles against 177) and a shading normal to read "
+          "per response, and callgrind's simulated L1 misses are 3.1 against 2.0 per particle-step. What Embree pays for a short segment near a 12,946-triangle mesh is a "
+          "shallow BVH descent; what the field pays is fixed per sample.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
     sweep_n = min(n for (m, n, _) in rows if m != table_mesh) if any(m != table_mesh for (m, _, _) in rows) else n
@@ -355,9 +354,10 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
           "validation: the paper's plain normal grid at its cheapest). **NanoVDB**: a `ReadAccessor` on a NanoVDB "
           "level set of the same distances, normal from 3 forward differences.\n")
     print("Each query runs with the best SIMD kernels of this CPU and again with the scalar reference path, "
-          "whose samples are bit for bit the same (last columns). The accurate rows read the same field written "
-          "with LIFT and GRAD sections, as `dngbake` writes them beside blurred normals (here the lifts are zero "
-          "and the gradients are the normals, so only the reads are added).\n")
+          "whose samples are bit for bit the same (last columns). The accurate and `+SHAD` rows read the same field "
+          "written with LIFT and SHAD sections, as `dngbake` writes a normal-blur or potential bake (format 1.3: "
+          "here the lifts are zero and the shading normals are the normals, so only the reads are added); the "
+          "goal below is on the plain field, whose normals, like NanoVDB's, are the distance's own.\n")
     print("| query | order | ns/query | vs raw array | vs NanoVDB | scalar ns/query | SIMD speed-up |")
     print("|---|---|---:|---:|---:|---:|---:|")
     rows = [(k, v) for k, v in m.items() if k.startswith("BM_Sample/") and k.endswith("/0")]

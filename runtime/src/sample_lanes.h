@@ -219,9 +219,9 @@ DNG_LANE_INLINE LaneSample nearestLanes(const View& view, V3 p, M active, V3* ou
   out.far_inside = andNot(far, out.far_outside);
   out.distance = select(inside, d, splat(std::numeric_limits<float>::infinity()));
   out.normal = select(out.in_band, v.normal, splat(0.0f, 0.0f, 0.0f));
-  if (kShading)
-    *out_shading =
-        select(out.in_band, shadingLanes(view, word, worded & out.in_band, v.normal), splat(0.0f, 0.0f, 0.0f));
+  // SHAD has an entry for every brick word and dense voxel, in band or not: gathered for all of them,
+  // the load waits for the tile entry only, not for the pool word, and the two overlap.
+  if (kShading) *out_shading = select(out.in_band, shadingLanes(view, word, worded, v.normal), splat(0.0f, 0.0f, 0.0f));
   return out;
 }
 
