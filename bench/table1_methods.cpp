@@ -125,7 +125,6 @@ Simulation::Simulation(const MeshScene& scene, const Case& c, std::size_t partic
 void Simulation::prepare() {
   respawn(spawn, steps++, &swarm);
   applyGravity(swarm.span(), gravity, kDt);
-  stepper(&swarm);
 }
 
 void Simulation::warmUp() {
