@@ -357,7 +357,8 @@ static void test_flags(const dng_field* box) {
     uint32_t flags;
   } kFiles[] = {{DNG_GOLDEN_DIR "/bricked_box_lifted.dng", DNG_FIELD_HAS_LIFT},
                 {DNG_GOLDEN_DIR "/bricked_box_graded.dng", DNG_FIELD_HAS_LIFT | DNG_FIELD_HAS_GRADIENT},
-                {DNG_GOLDEN_DIR "/bricked_box_shaded.dng", DNG_FIELD_HAS_LIFT | DNG_FIELD_HAS_SHADING}};
+                {DNG_GOLDEN_DIR "/bricked_box_shaded.dng", DNG_FIELD_HAS_LIFT | DNG_FIELD_HAS_SHADING},
+                {DNG_GOLDEN_DIR "/bricked_box_second_planes.dng", DNG_FIELD_HAS_LIFT | DNG_FIELD_HAS_SECOND_PLANES}};
   char message[256];
   size_t i;
   CHECK(dng_field_flags(box) == 0);

@@ -115,5 +115,55 @@ TEST(TopEntries, PackAndUnpackRoundTrip) {
   EXPECT_EQ(packFarEntry(TileKind::kFarOutside), 0u);
 }
 
+// PLN2 words (docs/FORMAT.md §5.5) keep the promise of the plane they were given: the decoded plane is
+// nowhere in the voxel's cell above it (checked at the cell's corners, where a difference of two planes
+// peaks), and it gives away little. Distances too low for a code, or not numbers, give no plane.
+TEST(SecondPlaneWords, NeverRiseAboveTheirPlaneOverTheCell) {
+  const float band = 3.5f, h = 0.25f, step = secondPlaneStep(band);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> distance(-band + 2.0f * step, band);
+  float given_away = 0.0f;
+  for (const Vec3f& n : randomUnitVectors(5000)) {
+    const float d = distance(rng);
+    const std::uint32_t word = secondPlaneWord(n, d, band, h);
+    ASSERT_TRUE(hasSecondPlane(word)) << d;
+    const Vec3f decoded_n = wordNormal(word);
+    const float decoded_d = secondPlaneDistance(word, band, step);
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3f s = Vec3f{corner & 1 ? 0.5f : -0.5f, corner & 2 ? 0.5f : -0.5f, corner & 4 ? 0.5f : -0.5f} * h;
+      const float given = d + dot(n, s), stored = decoded_d + dot(decoded_n, s);
+      ASSERT_LE(stored, given + 1e-6f * band) << d;
+      given_away = std::max(given_away, given - stored);
+    }
+  }
+  EXPECT_LT(given_away, step + 0.002f * h); // one code step, and the 11-bit normal's tilt
+  EXPECT_EQ(secondPlaneWord({0, 0, 1}, -band, band, h), 0u);
+  EXPECT_EQ(secondPlaneWord({0, 0, 1}, std::nanf(""), band, h), 0u);
+  EXPECT_EQ(secondPlaneDistance(secondPlaneWord({0, 0, 1}, 2.0f * band, band, h), band, step), band);
+}
+
+TEST(SecondPlaneWords, EveryWordDecodesToAFiniteDistanceInTheBand) {
+  const float band = 2.0f, step = secondPlaneStep(band);
+  for (std::uint32_t code = 0; code <= kWordDistanceMax; ++code) {
+    const std::uint32_t word = code << (2 * kWordOctBits) | 0x2ABCDu;
+    EXPECT_EQ(hasSecondPlane(word), code != 0);
+    const float d = secondPlaneDistance(word, band, step);
+    ASSERT_TRUE(std::isfinite(d));
+    ASSERT_GE(d, -band);
+    ASSERT_LE(d, band);
+  }
+}
+
+TEST(BitCount, CountsEveryBit) {
+  std::mt19937_64 rng(5);
+  for (int n = 0; n < 1000; ++n) {
+    const std::uint64_t x = n == 0 ? 0 : n == 1 ? ~std::uint64_t(0) : rng() & rng();
+    std::uint32_t expected = 0;
+    for (int b = 0; b < 64; ++b)
+      expected += std::uint32_t((x >> b) & 1u);
+    ASSERT_EQ(bitCount(x), expected) << x;
+  }
+}
+
 } // namespace
 } // namespace dng

@@ -35,6 +35,9 @@ TEST(Golden, BrickedBox) { compareWithGolden("bricked_box.dng", testing::smallBr
 TEST(Golden, BrickedBoxLifted) { compareWithGolden("bricked_box_lifted.dng", testing::smallBrickedBoxLifted()); }
 TEST(Golden, BrickedBoxGraded) { compareWithGolden("bricked_box_graded.dng", testing::smallBrickedBoxGraded()); }
 TEST(Golden, BrickedBoxShaded) { compareWithGolden("bricked_box_shaded.dng", testing::smallBrickedBoxShaded()); }
+TEST(Golden, BrickedBoxSecondPlanes) {
+  compareWithGolden("bricked_box_second_planes.dng", testing::smallBrickedBoxSecondPlanes());
+}
 
 // Files an older writer made (kept in golden/v1_<minor>) still open, and read exactly as the same
 // fields written by this writer: 1.2 added optional sections (LIFT, GRAD) and 1.3 another (SHAD), so

@@ -26,13 +26,24 @@ constexpr float kReachVoxels = 3.0f;
 
 // What the file holds beside distances and normals: LIFT and GRAD (the accurate query reads them), or
 // SHAD (the nearest and trilinear queries and the step's rules read it).
-enum class Extras { kNone, kLift, kLiftAndGradient, kShading };
+enum class Extras { kNone, kLift, kLiftAndGradient, kShading, kSecondPlanes };
 
 // LIFT and GRAD sections whose values differ from the stored ones, as a 1.2 blurred bake's do: lifts of
 // up to a third of a voxel, gradients tilted from the stored normals. Or SHAD tilted the same way, as
 // a 1.3 blurred bake's.
 void addExtras(Extras extras, format::DenseField* io) {
   if (extras == Extras::kNone) return;
+  if (extras == Extras::kSecondPlanes) { // planes lowered by up to half a voxel, the unlowered ones beside
+    const float band = io->grid.band;
+    io->second_distance.assign(io->distance.size(), -std::numeric_limits<float>::infinity());
+    io->second_normal.assign(io->distance.size(), Vec3f{});
+    for (std::size_t n = 0; n < io->distance.size(); ++n) {
+      if (!(std::fabs(io->distance[n]) < band)) continue;
+      io->second_distance[n] = io->distance[n], io->second_normal[n] = io->normal[n];
+      io->distance[n] -= 0.3f + 0.2f * std::sin(0.37f * float(n));
+    }
+    return;
+  }
   if (extras == Extras::kShading) {
     io->shading.resize(io->normal.size());
     for (std::size_t n = 0; n < io->normal.size(); ++n)
@@ -363,6 +374,27 @@ TEST(InstructionSet, StepGivesTheScalarResultsOnAStaticBody) {
   }
 }
 
+// `count` particles 0.05 to 0.4 out from `shape`'s surface, moving along it (the normal's part mostly
+// removed) at half to one voxel per step: their balls rarely settle a move.
+Swarm skimmingSwarm(const AnalyticField& shape, std::size_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> coord(-12.0f, 12.0f), unit(-1.0f, 1.0f);
+  Swarm skimming;
+  while (skimming.particles.size() < count) {
+    const Vec3f p{coord(rng), coord(rng), coord(rng)};
+    const analytic::Exact at = shape(p);
+    if (!(at.distance > 0.05f && at.distance < 0.4f)) continue;
+    // Along the surface (the normal's part removed), with a little of it towards or away.
+    const Vec3f random{unit(rng), unit(rng), unit(rng)};
+    const Vec3f along = normalizeOrZero(random - at.normal * (dot(random, at.normal) * 0.9f));
+    const Vec3f v = along * (1.0f / kDt * (0.5f + 0.5f * std::fabs(unit(rng))));
+    skimming.particles.push_back({{p.x, p.y, p.z}, 0.0f, {v.x, v.y, v.z}, 0.0f});
+  }
+  skimming.contact.assign(skimming.particles.size(), 7);
+  skimming.body.assign(skimming.particles.size(), 99);
+  return skimming;
+}
+
 // A SHAD section: the rules read its normals, the walk the planes'. Every rule, both encodings; the
 // shading must change the results, or the comparison says little.
 TEST(InstructionSet, StepGivesTheScalarResultsWithShadingNormals) {
@@ -379,28 +411,36 @@ TEST(InstructionSet, StepGivesTheScalarResultsWithShadingNormals) {
   }
 }
 
+// A PLN2 section: the walk reads the second planes where the lowered first ones stop it or prove
+// nothing. Particles skimming the faces, where that happens; the planes must change the results.
+TEST(InstructionSet, StepGivesTheScalarResultsWithSecondPlanes) {
+  const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+  Field seconded(box, false, Extras::kSecondPlanes);
+  ASSERT_TRUE(seconded.view.hasSecondPlanes());
+  Swarm skimming = skimmingSwarm(box, 2001, 22);
+  expectSameSteps({makeBody(seconded.view, everyRule())}, skimming);
+  // The same lowered planes without the second ones.
+  format::DenseField lowered =
+      analytic::sampleField(analytic::cubeGrid({-20, -20, -20}, 1.0f, 40, kReachVoxels + 0.8661f), box);
+  addExtras(Extras::kSecondPlanes, &lowered);
+  lowered.second_distance.clear(), lowered.second_normal.clear();
+  const format::EncodeResult plain = format::encodeBricked(lowered, {}, "");
+  View plain_view;
+  ASSERT_EQ(View::open(plain.bytes.data(), plain.bytes.size(), &plain_view), Status::kOk);
+  const Body on_seconded = makeBody(seconded.view, everyRule()), on_plain = makeBody(plain_view, everyRule());
+  Swarm a = skimming, b = skimming;
+  ASSERT_EQ(stepParticles(a.span(), kDt, &on_seconded, 1), Status::kOk);
+  ASSERT_EQ(stepParticles(b.span(), kDt, &on_plain, 1), Status::kOk);
+  EXPECT_FALSE(sameParticles(a, b));
+}
+
 // Particles skimming a box's faces and edges, under half a voxel out, at half to one voxel per step:
 // their balls rarely settle a move, so most walks are set aside and walked cell by cell together
 // (runtime/src/span_lanes.h), hundreds of them per call (several batches, the last one partial).
 TEST(InstructionSet, StepGivesTheScalarResultsWhenMostWalksGoCellByCell) {
   const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
   Field field(box, false);
-  std::mt19937 rng(21);
-  std::uniform_real_distribution<float> coord(-12.0f, 12.0f), unit(-1.0f, 1.0f);
-  Swarm skimming;
-  while (skimming.particles.size() < 2001) {
-    const Vec3f p{coord(rng), coord(rng), coord(rng)};
-    const analytic::Exact at = box(p);
-    if (!(at.distance > 0.05f && at.distance < 0.4f)) continue;
-    // Along the surface (the normal's part removed), with a little of it towards or away.
-    const Vec3f random{unit(rng), unit(rng), unit(rng)};
-    const Vec3f along = normalizeOrZero(random - at.normal * (dot(random, at.normal) * 0.9f));
-    const Vec3f v = along * (1.0f / kDt * (0.5f + 0.5f * std::fabs(unit(rng))));
-    skimming.particles.push_back({{p.x, p.y, p.z}, 0.0f, {v.x, v.y, v.z}, 0.0f});
-  }
-  skimming.contact.assign(skimming.particles.size(), 7);
-  skimming.body.assign(skimming.particles.size(), 99);
-  expectSameSteps({makeBody(field.view, everyRule())}, skimming);
+  expectSameSteps({makeBody(field.view, everyRule())}, skimmingSwarm(box, 2001, 21));
 }
 
 TEST(InstructionSet, StepGivesTheScalarResultsOnAMovingSpinningScaledBody) {

@@ -239,6 +239,7 @@ TEST(Reject, PayloadSizesThatDoNotMatchTheGrid) {
             Status::kBadPayloadSize);
   const Bytes shaded = testing::smallBrickedBoxShaded();
   ASSERT_EQ(openStatus(shaded), Status::kOk);
+  ASSERT_EQ(openStatus(testing::smallBrickedBoxSecondPlanes()), Status::kOk);
   EXPECT_EQ(openStatus(withEntry(shaded, format::kTagShading, [](SectionEntry& e) { e.size -= 4; })),
             Status::kBadPayloadSize);
   // Dimensions whose product overflows 64 bits must not wrap around to a matching size.
@@ -329,6 +330,61 @@ TEST(Verify, NonZeroPaddingIsDamage) {
 }
 
 // Each failure names its FORMAT.md rule in Diagnostic::rule, the same ID dngdump prints.
+// V22: the second planes' section must add up (header, masks, first indices, slots, planes), its first
+// indices must count the planes before them, its slots name blocks it holds on tiles with band voxels,
+// and dense files have none.
+TEST(Reject, SecondPlanesThatDoNotAddUp) {
+  const Bytes file = testing::smallBrickedBoxSecondPlanes();
+  ASSERT_EQ(openStatus(file), Status::kOk);
+  const auto section = entryOf(file, format::kTagSecondPlanes);
+  const auto header = peek<format::SecondPlanesHeader>(file, section.offset);
+  ASSERT_GT(header.blocks, 1u);
+  const std::size_t masks = section.offset + 8, first = masks + header.blocks * 8, slots = first + header.blocks * 4;
+  const auto reject = [&](Bytes bytes, const char* what) {
+    format::resealHashes(bytes);
+    View view;
+    Diagnostic diag;
+    EXPECT_NE(View::open(bytes.data(), bytes.size(), &view, &diag), Status::kOk) << what;
+    EXPECT_STREQ(diag.rule, "V22") << what;
+  };
+  reject(withEntry(file, format::kTagSecondPlanes, [](SectionEntry& e) { e.size -= 4; }), "a plane short");
+  Bytes planes = file;
+  poke(planes, section.offset + 4, header.planes + 1);
+  reject(planes, "the header counts more planes than there are");
+  Bytes index = file;
+  poke(index, first + 4, peek<std::uint32_t>(index, first + 4) + 1);
+  reject(index, "a first index that skips a plane");
+  Bytes mask = file;
+  poke(mask, masks, peek<std::uint64_t>(mask, masks) ^ 1u);
+  reject(mask, "a mask bit that does not match the count");
+  // A slot past the blocks, and a block on a far tile.
+  std::size_t with_block = 0, far = 0;
+  const auto top = entryOf(file, format::kTagBrickTop);
+  for (std::size_t t = 0; t < top.size / 8; ++t) {
+    const bool has = peek<std::uint32_t>(file, slots + 4 * t) != format::kNoSecondPlanes;
+    if (has && with_block == 0) with_block = slots + 4 * t;
+    if (format::entryKind(peek<std::uint64_t>(file, top.offset + 8 * t)) == format::TileKind::kFarOutside && far == 0)
+      far = slots + 4 * t;
+  }
+  ASSERT_NE(with_block * far, 0u);
+  Bytes past = file;
+  poke(past, with_block, header.blocks);
+  reject(past, "a slot past the blocks");
+  Bytes on_far = file;
+  poke(on_far, far, std::uint32_t(0));
+  reject(on_far, "a block on a far tile");
+  // The same section in a dense file.
+  format::ContainerBuilder builder;
+  const Bytes dense = testing::smallDensePlane();
+  for (std::uint32_t tag : {format::kTagGrid, format::kTagMetadata, format::kTagDense}) {
+    const auto e = entryOf(dense, tag);
+    builder.addSection(tag, e.flags, dense.data() + e.offset, e.size);
+  }
+  const std::uint32_t empty[2] = {0, 0};
+  builder.addSection(format::kTagSecondPlanes, 0, empty, sizeof empty);
+  reject(builder.finish(), "second planes in a dense file");
+}
+
 TEST(Reject, DiagnosticsNameTheirRule) {
   const Bytes good = testing::smallBrickedBox();
   const auto ruleOf = [](const Bytes& bytes) {

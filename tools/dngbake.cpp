@@ -98,6 +98,8 @@ void addOptions(CLI::App& app, CommandLine& cl) {
   app.add_flag("!--no-lift", cl.bake.lift,
                "leave out the LIFT section (a file about a third smaller); accurate queries then read the lowered "
                "values");
+  app.add_flag("!--no-second-planes", cl.bake.second_planes,
+               "leave out the PLN2 section (bricked): particles beside edges are then proven outside less often");
   app.add_option("--export-vdb", cl.export_vdb, "also write distance and normal grids as OpenVDB");
   app.add_option("--threads", cl.bake.threads, "worker threads (default: all); the output never depends on it");
   app.add_flag("--json", cl.json, "print a versioned JSON report on stdout");
@@ -166,6 +168,8 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                   {"max_distance_error_voxels", e.max_distance_error_voxels},
                   {"max_normal_error_degrees", e.max_normal_error_deg},
                   {"max_lifted_error_voxels", e.max_lifted_error_voxels},
+                  {"second_plane_blocks", e.second_plane_blocks},
+                  {"second_planes", e.second_planes},
                   {"payload_bytes", e.payload_bytes}};
   j["working_store"] = {{"blocks", r.band_blocks}, {"peak_memory_bytes", r.peak_memory_bytes}};
   j["output_bytes"] = r.output_bytes;

@@ -52,7 +52,7 @@ int runCheck(const CommandLine& cl, const View& view) {
         {"format", "dngdump-check"}, {"version", 1}, {"file", cl.file}, {"valid", true}, {"findings", Json::array()}};
     std::printf("%s\n", toText(j).c_str());
   } else {
-    std::printf("%s: valid (rules V1-V20 of docs/FORMAT.md: every section hash and the padding checked)\n",
+    std::printf("%s: valid (rules V1-V22 of docs/FORMAT.md: every section hash and the padding checked)\n",
                 cl.file.c_str());
   }
   return kExitOk;

@@ -74,6 +74,7 @@ Json reportJson(const std::string& path, const View& view) {
   j["lift"] = view.hasLift();
   j["gradient"] = view.hasGradient();
   j["shading"] = view.hasShading();
+  j["second_planes"] = view.secondPlaneCount();
   const TileCounts& t = view.tileCounts();
   j["tiles"] = {{"far_outside", t.far_outside}, {"far_inside", t.far_inside}, {"plane", t.plane}, {"brick", t.brick}};
   j["voxels_in_band"] = band;
@@ -116,6 +117,12 @@ void printSummary(std::FILE* out, const std::string& path, const View& view) {
   std::fprintf(out, "  shading    %s\n",
                view.hasShading() ? "yes (queries and responses read the mode's normals; the walk reads the planes')"
                                  : "none (queries and responses read the planes' normals)");
+  if (view.hasSecondPlanes()) {
+    std::fprintf(out, "  second     %u planes (the walk reads them where a voxel's own plane proves nothing)\n",
+                 view.secondPlaneCount());
+  } else {
+    std::fprintf(out, "  second     none (the walk reads the voxels' own planes, then their neighbours')\n");
+  }
   if (g.encoding == format::Encoding::kBricked) {
     const TileCounts& t = view.tileCounts();
     std::fprintf(out, "  tiles      %llu far outside, %llu far inside, %llu plane, %llu brick\n",

@@ -87,7 +87,8 @@ std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, co
                         {"brick_size", o.brick.brick_size},
                         {"tolerance_voxels", o.brick.tolerance_distance},
                         {"tolerance_degrees", o.brick.tolerance_normal_deg},
-                        {"lift", o.lift}};
+                        {"lift", o.lift},
+                        {"second_planes", o.second_planes}};
   meta["conservative_planes"] = (g.flags & format::kGridFlagConservativePlanes) != 0;
   meta["source"] = sourceJson(report);
   meta["units"] = unitsJson(report);
@@ -177,7 +178,11 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");
   if (!reportStage(progress, user, "normals")) return BakeStatus::cancelled();
-  status = makePlanesConservative(options.lift, progress, user, &band);
+  // Second planes are tested against the triangles as a solid's (conservative_planes.cpp): for
+  // closed, consistently oriented meshes only, and only the bricked encoding stores them.
+  const bool second_planes =
+      options.second_planes && options.encoding == format::Encoding::kBricked && report->mesh.wellFormedSolid();
+  status = makePlanesConservative(options.lift, second_planes ? &soup : nullptr, progress, user, &band);
   if (!status.ok()) return status;
   report->grid.flags = band.grid().flags;
   timer.done("conservative");

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace dng {
 namespace baker {
@@ -146,6 +147,38 @@ bool BandGrid::hasShading() const { return impl_->shading != nullptr; }
 void BandGrid::readShading(const format::VoxelBox& box, Vec3f* shading) const {
   readTree(impl_->shading->tree(), box, [&](std::size_t out, const openvdb::Vec3s& n) {
     shading[out] = {n.x(), n.y(), n.z()};
+  });
+}
+
+void BandGrid::startSecondPlanes() {
+  const float none = -std::numeric_limits<float>::infinity();
+  impl_->second_distance = openvdb::FloatGrid::create(none);
+  impl_->second_normal = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+  for (auto leaf = impl_->distance->tree().cbeginLeaf(); leaf; ++leaf) {
+    impl_->second_distance->tree().touchLeaf(leaf->origin())->fill(none);
+    impl_->second_normal->tree().touchLeaf(leaf->origin());
+  }
+}
+
+std::vector<VoxelBlock> BandGrid::secondPlaneBlocks() {
+  std::vector<VoxelBlock> out;
+  out.reserve(impl_->distance->tree().leafCount());
+  for (auto leaf = impl_->distance->tree().beginLeaf(); leaf; ++leaf) {
+    VoxelBlock block;
+    block.origin = {leaf->origin().x(), leaf->origin().y(), leaf->origin().z()};
+    block.distance = impl_->second_distance->tree().probeLeaf(leaf->origin())->buffer().data();
+    block.normal = impl_->second_normal->tree().probeLeaf(leaf->origin())->buffer().data()->asPointer();
+    out.push_back(block);
+  }
+  return out;
+}
+
+bool BandGrid::hasSecondPlanes() const { return impl_->second_distance != nullptr; }
+
+void BandGrid::readSecondPlanes(const format::VoxelBox& box, float* distance, Vec3f* normal) const {
+  readTree(impl_->second_distance->tree(), box, [&](std::size_t out, float d) { distance[out] = d; });
+  readTree(impl_->second_normal->tree(), box, [&](std::size_t out, const openvdb::Vec3s& n) {
+    normal[out] = {n.x(), n.y(), n.z()};
   });
 }
 

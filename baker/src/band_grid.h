@@ -83,6 +83,15 @@ public:
   void startShading();
   bool hasShading() const override;
   void readShading(const format::VoxelBox& box, Vec3f* shading) const override;
+  /// Starts the second planes, none anywhere, over the band's blocks, for a stage to fill block by block
+  /// (secondPlaneBlocks). The encoders write them beside the planes (the file's PLN2 section). Costs
+  /// four more floats per voxel of the band's blocks. Call after finishBand, once.
+  void startSecondPlanes();
+  /// The second planes' blocks, in blocks()' order: each voxel's plane as a distance at its centre
+  /// (-infinity: none) and a normal. Valid until the band's topology changes.
+  std::vector<VoxelBlock> secondPlaneBlocks();
+  bool hasSecondPlanes() const override;
+  void readSecondPlanes(const format::VoxelBox& box, float* distance, Vec3f* normal) const override;
   /// Far when no block overlaps the box and every tile it covers lies on one side.
   format::FarHint farHint(const format::VoxelBox& box) const override;
 

@@ -10,10 +10,12 @@ namespace dng {
 namespace baker {
 
 struct BandGrid::Impl {
-  openvdb::FloatGrid::Ptr distance; ///< background +band; a level set once finishBand has run
-  openvdb::Vec3SGrid::Ptr normal;   ///< background zero; same topology as `distance`
-  openvdb::FloatGrid::Ptr accurate; ///< null, or `distance` as keepAccurateDistances() found it
-  openvdb::Vec3SGrid::Ptr shading;  ///< null, or the mode's normals (startShading()); same topology
+  openvdb::FloatGrid::Ptr distance;        ///< background +band; a level set once finishBand has run
+  openvdb::Vec3SGrid::Ptr normal;          ///< background zero; same topology as `distance`
+  openvdb::FloatGrid::Ptr accurate;        ///< null, or `distance` as keepAccurateDistances() found it
+  openvdb::Vec3SGrid::Ptr shading;         ///< null, or the mode's normals (startShading()); same topology
+  openvdb::FloatGrid::Ptr second_distance; ///< null, or second planes (startSecondPlanes()), -inf: none
+  openvdb::Vec3SGrid::Ptr second_normal;   ///< their normals; both on `distance`'s leaves
 };
 
 /// Our voxel (i, j, k) is OpenVDB's coordinate (i, j, k); the transform puts it at its centre,

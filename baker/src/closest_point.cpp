@@ -55,6 +55,25 @@ bool visitTriangle(RTCPointQueryFunctionArguments* args) {
   return true;
 }
 
+struct NearState {
+  const TriangleSoup* soup;
+  const std::vector<std::uint32_t>* triangle_of_primitive;
+  void (*visit)(void* user, std::uint32_t triangle);
+  void* user;
+};
+
+// Every triangle whose bounds the walk reaches, kept when its closest point is within the radius.
+bool visitNear(RTCPointQueryFunctionArguments* args) {
+  auto* state = static_cast<NearState*>(args->userPtr);
+  const std::uint32_t t = (*state->triangle_of_primitive)[args->primID];
+  const auto& tri = state->soup->triangles[t];
+  const Vec3f p{args->query->x, args->query->y, args->query->z};
+  const Vec3f q =
+      closestOnTriangle(p, state->soup->vertices[tri[0]], state->soup->vertices[tri[1]], state->soup->vertices[tri[2]]);
+  if (length(p - q) < args->query->radius) state->visit(state->user, t);
+  return false; // the radius stays: every triangle within it is wanted
+}
+
 } // namespace
 
 struct ClosestPointIndex::Impl {
@@ -116,6 +135,18 @@ ClosestPointIndex::Hit ClosestPointIndex::query(Vec3f p, float radius) const {
   QueryState state{impl_->soup, &impl_->triangle_of_primitive, {}};
   rtcPointQuery(impl_->scene, &query, &context, visitTriangle, &state);
   return state.hit;
+}
+
+void ClosestPointIndex::forEachNear(Vec3f p, float radius, void (*visit)(void* user, std::uint32_t triangle),
+                                    void* user) const {
+  RTCPointQuery query;
+  query.x = p.x, query.y = p.y, query.z = p.z;
+  query.time = 0.0f;
+  query.radius = radius;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  NearState state{impl_->soup, &impl_->triangle_of_primitive, visit, user};
+  rtcPointQuery(impl_->scene, &query, &context, visitNear, &state);
 }
 
 } // namespace baker

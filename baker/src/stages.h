@@ -73,7 +73,15 @@ public:
   /// The closest surface point within `radius` of `p`; a small radius makes far queries cheap.
   Hit query(Vec3f p, float radius) const;
 
+  /// Calls visit(triangle) for every triangle of the soup (degenerate ones left out, as above) that
+  /// comes within `radius` of `p`, in no particular order.
+  template <class Visit> void forEachTriangleNear(Vec3f p, float radius, Visit&& visit) const {
+    forEachNear(
+        p, radius, [](void* user, std::uint32_t t) { (*static_cast<Visit*>(user))(t); }, &visit);
+  }
+
 private:
+  void forEachNear(Vec3f p, float radius, void (*visit)(void* user, std::uint32_t triangle), void* user) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
@@ -139,8 +147,12 @@ BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options,
 /// marks the grid format::kGridFlagConservativePlanes. The band's normals must be the distance's own
 /// (every mode keeps them; the blurred ones are shading normals). Reports stage "conservative"; cancel
 /// as the others. With `keep_accurate` the band keeps the distances from before the lowering
-/// (BandGrid::keepAccurateDistances).
-BakeStatus makePlanesConservative(bool keep_accurate, ProgressFn progress, void* progress_user, BandGrid* io);
+/// (BandGrid::keepAccurateDistances). With `solid` (a closed, consistently oriented mesh: the field's
+/// inside changes only across its surface; null for any other) it also gives the voxels beside edges a
+/// second plane where one adds provable clearance, checked against the triangles
+/// (BandGrid::startSecondPlanes).
+BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup* solid, ProgressFn progress,
+                                  void* progress_user, BandGrid* io);
 
 /// A voxel the surface overlaps, with the average normal of the triangles overlapping it.
 struct SurfaceVoxel {

@@ -31,6 +31,17 @@ struct WordNormals {
   std::vector<std::uint16_t> pool;
 };
 
+// PLN2 (docs/FORMAT.md §5.5), when the source has second planes: the brick's as read; one slot per top
+// entry; per block its voxel mask; the planes, block by block in voxel order.
+struct SecondPlanes {
+  bool present = false;
+  std::vector<float> distance;
+  std::vector<Vec3f> normal;
+  std::vector<std::uint32_t> slots;
+  std::vector<std::uint64_t> masks;
+  std::vector<std::uint32_t> words;
+};
+
 struct Encoder {
   const FieldSource& source;
   const GridGeometry& grid;
@@ -43,7 +54,7 @@ struct Encoder {
   EncodeStats stats;
   std::vector<float> distance; // the brick being encoded, x fastest
   std::vector<Vec3f> normal;
-  std::vector<std::uint32_t> quantized; // writeBrick's scratch: octahedral normal bits per voxel
+  std::vector<std::uint32_t> quantized; // scratch per voxel: writeBrick's normal bits, writeSecondPlanes' words
   std::vector<float> target;            // and the value each voxel's word may not exceed
   // LIFT (docs/FORMAT.md §5.2), when the source has accurate distances: the brick's accurate values,
   // and one lift per top entry and per pool word, in the orders of `top` and `pool`.
@@ -53,6 +64,7 @@ struct Encoder {
   std::vector<std::int16_t> lift_pool;
   WordNormals gradient; // GRAD: the distance's own gradient beside other normals
   WordNormals shading;  // SHAD: the mode's normals beside the gradient's planes
+  SecondPlanes second;  // PLN2: second planes beside edges
 };
 
 // A brick's voxel range, clipped to the grid.
@@ -259,6 +271,34 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   return packBrickEntry(pool_index, lo16, hi16);
 }
 
+// The tile's block of second planes, when any of its band voxels has one: the block's index (counted
+// from the layer's first), its mask and its planes in voxel order; kNoSecondPlanes otherwise.
+std::uint32_t writeSecondPlanes(Encoder& e, const BrickBox& box, const VoxelBox& read) {
+  SecondPlanes& second = e.second;
+  e.source.readSecondPlanes(read, second.distance.data(), second.normal.data());
+  std::vector<std::uint32_t>& by_voxel = e.quantized; // the brick's words by local index, 0 for none
+  std::fill(by_voxel.begin(), by_voxel.end(), 0u);
+  const std::uint32_t mask = e.size - 1;
+  bool any = false;
+  forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
+    if (!inBand(e, v) || !std::isfinite(second.distance[v])) return;
+    const std::uint32_t word =
+        secondPlaneWord(normalizeOrZero(second.normal[v]), second.distance[v], e.grid.band, e.grid.voxel_size);
+    by_voxel[((k & mask) << (2 * e.log2)) | ((j & mask) << e.log2) | (i & mask)] = word;
+    any = any || hasSecondPlane(word);
+  });
+  if (!any) return kNoSecondPlanes;
+  const std::size_t first_mask = second.masks.size();
+  second.masks.resize(first_mask + secondPlaneMaskWords(e.log2), 0u);
+  for (std::size_t local = 0; local < by_voxel.size(); ++local) {
+    if (!hasSecondPlane(by_voxel[local])) continue;
+    second.masks[first_mask + local / 64] |= std::uint64_t(1) << (local % 64);
+    second.words.push_back(by_voxel[local]);
+  }
+  ++e.stats.second_plane_blocks;
+  return std::uint32_t(first_mask / secondPlaneMaskWords(e.log2));
+}
+
 // Encodes one brick (reading it unless the source hints it is far); false, with *error set, when a
 // voxel is not finite.
 bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
@@ -297,6 +337,9 @@ bool encodeTile(Encoder& e, const std::uint32_t brick[3], std::string* error) {
   if (kind == TileKind::kFarInside) ++e.stats.tiles.far_inside;
   e.top.push_back(entry);
   if (e.lifted) e.lift_top.push_back(tile_lift);
+  if (e.second.present)
+    e.second.slots.push_back(kind == TileKind::kPlane || kind == TileKind::kBrick ? writeSecondPlanes(e, box, read)
+                                                                                  : kNoSecondPlanes);
   return true;
 }
 
@@ -329,10 +372,13 @@ Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std:
             {},
             {},
             {},
+            {},
             {}};
   if (e.lifted) e.accurate.resize(brick_voxels);
   e.gradient.present = source.hasGradient();
   e.shading.present = source.hasShading();
+  e.second.present = source.hasSecondPlanes();
+  if (e.second.present) e.second.distance.resize(brick_voxels), e.second.normal.resize(brick_voxels);
   for (WordNormals* words : {&e.gradient, &e.shading})
     if (words->present) words->brick.resize(brick_voxels);
   return e;
@@ -344,6 +390,8 @@ struct Layer {
   std::vector<std::uint32_t> pool;
   std::vector<std::int16_t> lift_top, lift_pool;          // empty without accurate distances
   std::vector<std::uint16_t> gradient_pool, shading_pool; // empty without those sections
+  std::vector<std::uint32_t> second_slots, second_words;  // block indices count from the layer's first
+  std::vector<std::uint64_t> second_masks;
   EncodeStats stats;
   std::string error;
 };
@@ -357,6 +405,33 @@ void addStats(const EncodeStats& layer, EncodeStats* total) {
   total->max_distance_error_voxels = std::max(total->max_distance_error_voxels, layer.max_distance_error_voxels);
   total->max_normal_error_deg = std::max(total->max_normal_error_deg, layer.max_normal_error_deg);
   total->max_lifted_error_voxels = std::max(total->max_lifted_error_voxels, layer.max_lifted_error_voxels);
+  total->second_plane_blocks += layer.second_plane_blocks;
+}
+
+// The PLN2 payload (docs/FORMAT.md §5.5): header, masks, each mask word's first plane, slots, planes;
+// empty when no tile has a second plane.
+std::vector<std::uint8_t> packSecondPlanes(const std::vector<std::uint32_t>& slots,
+                                           const std::vector<std::uint64_t>& masks,
+                                           const std::vector<std::uint32_t>& words, std::size_t mask_words) {
+  if (words.empty()) return {};
+  std::vector<std::uint32_t> first(masks.size());
+  std::uint32_t running = 0;
+  for (std::size_t m = 0; m < masks.size(); ++m) {
+    first[m] = running;
+    running += bitCount(masks[m]);
+  }
+  const SecondPlanesHeader header{std::uint32_t(masks.size() / mask_words), std::uint32_t(words.size())};
+  std::vector<std::uint8_t> out;
+  const auto append = [&out](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const std::uint8_t*>(data);
+    out.insert(out.end(), b, b + bytes);
+  };
+  append(&header, sizeof header);
+  append(masks.data(), masks.size() * sizeof(std::uint64_t));
+  append(first.data(), first.size() * sizeof(std::uint32_t));
+  append(slots.data(), slots.size() * sizeof(std::uint32_t));
+  append(words.data(), words.size() * sizeof(std::uint32_t));
+  return out;
 }
 
 // Concatenates the layers in z order, moving each layer's pool indices past the bricks before it.
@@ -366,6 +441,9 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   std::vector<std::uint32_t> pool;
   std::vector<std::int16_t> lift_top, lift_pool;
   std::vector<std::uint16_t> gradient_pool, shading_pool;
+  std::vector<std::uint32_t> second_slots, second_words;
+  std::vector<std::uint64_t> second_masks;
+  const std::size_t mask_words = secondPlaneMaskWords(grid.brick_log2);
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);
     if (result.stats.tiles.brick >= kMaxPoolBricks) {
@@ -382,6 +460,11 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
     lift_pool.insert(lift_pool.end(), layer.lift_pool.begin(), layer.lift_pool.end());
     gradient_pool.insert(gradient_pool.end(), layer.gradient_pool.begin(), layer.gradient_pool.end());
     shading_pool.insert(shading_pool.end(), layer.shading_pool.begin(), layer.shading_pool.end());
+    const auto first_block = std::uint32_t(second_masks.size() / mask_words);
+    for (std::uint32_t slot : layer.second_slots)
+      second_slots.push_back(slot == kNoSecondPlanes ? slot : slot + first_block);
+    second_masks.insert(second_masks.end(), layer.second_masks.begin(), layer.second_masks.end());
+    second_words.insert(second_words.end(), layer.second_words.begin(), layer.second_words.end());
     layer = Layer{}; // give the memory back as we go
   }
   ContainerBuilder builder;
@@ -395,9 +478,14 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
     builder.addSection(kTagGradient, 0, gradient_pool.data(), gradient_pool.size() * sizeof(std::uint16_t));
   if (!shading_pool.empty())
     builder.addSection(kTagShading, 0, shading_pool.data(), shading_pool.size() * sizeof(std::uint16_t));
+  const std::vector<std::uint8_t> second_planes =
+      packSecondPlanes(second_slots, second_masks, second_words, mask_words);
+  if (!second_planes.empty()) builder.addSection(kTagSecondPlanes, 0, second_planes.data(), second_planes.size());
+  result.stats.second_planes = second_words.size();
   result.stats.payload_bytes = top.size() * sizeof(std::uint64_t) + pool.size() * sizeof(std::uint32_t) +
                                lift_top.size() * sizeof(std::int16_t) +
-                               (gradient_pool.size() + shading_pool.size()) * sizeof(std::uint16_t);
+                               (gradient_pool.size() + shading_pool.size()) * sizeof(std::uint16_t) +
+                               second_planes.size();
   result.bytes = builder.finish();
   return result;
 }
@@ -434,6 +522,9 @@ EncodeResult encodeBricked(const FieldSource& source, const BrickOptions& option
     layers[z].lift_pool = std::move(e.lift_pool);
     layers[z].gradient_pool = std::move(e.gradient.pool);
     layers[z].shading_pool = std::move(e.shading.pool);
+    layers[z].second_slots = std::move(e.second.slots);
+    layers[z].second_masks = std::move(e.second.masks);
+    layers[z].second_words = std::move(e.second.words);
     layers[z].stats = e.stats;
   });
   if (!finished) result.fail(EncodeError::kCancelled, "cancelled");

@@ -172,7 +172,8 @@ uint32_t dng_field_flags(const dng_field* field) {
   if (field == nullptr) return 0;
   const dng::View& view = field->view;
   return (view.conservativePlanes() ? DNG_FIELD_CONSERVATIVE_PLANES : 0u) | (view.hasLift() ? DNG_FIELD_HAS_LIFT : 0u) |
-         (view.hasGradient() ? DNG_FIELD_HAS_GRADIENT : 0u) | (view.hasShading() ? DNG_FIELD_HAS_SHADING : 0u);
+         (view.hasGradient() ? DNG_FIELD_HAS_GRADIENT : 0u) | (view.hasShading() ? DNG_FIELD_HAS_SHADING : 0u) |
+         (view.hasSecondPlanes() ? DNG_FIELD_HAS_SECOND_PLANES : 0u);
 }
 
 size_t dng_field_metadata(const dng_field* field, char* out_text, size_t capacity) {

@@ -212,6 +212,88 @@ DNG_LANE_INLINE F cellExit(const GridInfo& g, float inv_h, V3 a, V3 d, F t) {
 /// cells (the first ball, then cell by cell) for lanes whose balls could not prove them.
 enum class WalkPart { kBalls, kCells };
 
+// ViewInternals::betterPlane for the lanes of `m` (the rest keep `s`): one lane at a time, the scalar
+// function itself, since second planes are read only where a cell's own plane stops or fails a walk.
+DNG_LANE_INLINE LaneSample betterPlaneLanes(const View& field, V3 p, const LaneSample& s, M m) {
+  alignas(32) float px[kWidth], py[kWidth], pz[kWidth], d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
+  store(px, p.x), store(py, p.y), store(pz, p.z), store(d, s.distance);
+  store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
+  unsigned in_band = 0, far_outside = 0, far_inside = 0;
+  const unsigned band_bits = bits(s.in_band);
+  for (unsigned on = bits(m); on != 0; on &= on - 1) {
+    const int lane = __builtin_ctz(on);
+    const Sample first{d[lane],
+                       {nx[lane], ny[lane], nz[lane]},
+                       (band_bits >> lane) & 1u ? SampleStatus::kInBand : SampleStatus::kNoField};
+    const Sample better = ViewInternals::betterPlane(field, {px[lane], py[lane], pz[lane]}, first);
+    d[lane] = better.distance, nx[lane] = better.normal.x, ny[lane] = better.normal.y, nz[lane] = better.normal.z;
+    in_band |= unsigned(better.status == SampleStatus::kInBand) << lane;
+    far_outside |= unsigned(better.status == SampleStatus::kFarOutside) << lane;
+    far_inside |= unsigned(better.status == SampleStatus::kFarInside) << lane;
+  }
+  const M on = m & ~(s.no_field); // betterPlane answers in-band samples only; the rest keep theirs
+  LaneSample out = s;
+  out.distance = select(on, load(d), s.distance);
+  out.normal = select(on, V3{load(nx), load(ny), load(nz)}, s.normal);
+  out.in_band = (on & laneMask(in_band)) | andNot(s.in_band, on);
+  out.far_outside = (on & laneMask(far_outside)) | andNot(s.far_outside, on);
+  out.far_inside = (on & laneMask(far_inside)) | andNot(s.far_inside, on);
+  return out;
+}
+
+// What a cell's plane, read at t (walk.cpp planCell), says for the lanes `live`: each lane is in one of
+// covers (split into roomy_end and need_end), far, stop, to_wall (split into through and next), or none
+// of them (nothing: the plane proves nothing). `gap` and `exit` as planCell's clear and exit.
+struct CellLanes {
+  M covers, roomy_end, need_end, far, stop, to_wall, through, next;
+  F gap, exit;
+  M nothing(M live) const { return andNot(andNot(andNot(andNot(live, covers), far), stop), to_wall); }
+};
+
+DNG_LANE_INLINE CellLanes planCellLanes(const GridInfo& g, float inv_h, V3 a, V3 delta, F t, F t_end, F len,
+                                        const LaneSample& s, M live, F reach, F margin, F proof, F roomy) {
+  const F zero = splat(0.0f);
+  CellLanes c;
+  const F q = select(s.far_inside, zero - reach, minOf(reach, s.distance));
+  c.gap = q - margin;
+  const F rest = (t_end - t) * len;
+  c.covers = live & (c.gap >= rest);
+  c.roomy_end = c.covers & (c.gap - rest >= roomy);
+  c.need_end = andNot(c.covers, c.roomy_end);
+  live = andNot(live, c.covers);
+  c.far = live & s.far_outside; // a ball that does not reach the end: step on by it
+  live = andNot(live, c.far);
+  // Inside one cell the field is the cell's plane.
+  const F rate = select(s.in_band, dot(s.normal, delta), zero);
+  c.exit = cellExit(g, inv_h, a, delta, t);
+  const F hit = t + c.gap / (zero - rate);
+  c.stop = live & (rate < zero) & (c.gap >= zero) & (hit < c.exit) & (hit < t_end);
+  c.to_wall = andNot(live, c.stop) & ((c.gap >= zero) | ((rate >= zero) & (q >= proof) & s.in_band));
+  c.through = c.to_wall & (c.exit >= t_end);
+  c.next = andNot(c.to_wall, c.through);
+  return c;
+}
+
+DNG_LANE_INLINE CellLanes merge(M m, const CellLanes& a, const CellLanes& b) {
+  const auto pick = [m](M x, M y) { return (m & x) | andNot(y, m); };
+  return {pick(a.covers, b.covers), pick(a.roomy_end, b.roomy_end), pick(a.need_end, b.need_end), pick(a.far, b.far),
+          pick(a.stop, b.stop),     pick(a.to_wall, b.to_wall),     pick(a.through, b.through),   pick(a.next, b.next),
+          select(m, a.gap, b.gap),  select(m, a.exit, b.exit)};
+}
+
+// Whether an end sample proves its point outside (walk.cpp provable, but for the neighbours' bound,
+// which the scalar walk takes): far outside, beyond the grid, its plane reading at least `proof`, or
+// its second plane doing so.
+DNG_LANE_INLINE M endProven(const View& field, V3 end, const LaneSample& e, M m, F proof) {
+  M proven = m & (e.far_outside | e.no_field | (e.in_band & (e.distance >= proof)));
+  const M second = andNot(m & e.in_band, proven);
+  if (ViewInternals::hasSecondPlanesFast(field) && any(second)) {
+    const LaneSample better = betterPlaneLanes(field, end, e, second);
+    proven = proven | (second & (better.far_outside | (better.distance >= proof)));
+  }
+  return proven;
+}
+
 // walkSegment (walk.cpp) through body `sb` for the lanes `near` it, from `a` (the start in the body's
 // start-of-step frame) to `end` (world), as far as its cases that only advance go: balls, the two-ball
 // test, cell planes that stay clear to the cell's wall, the end point's proof (`part` says which).
@@ -256,43 +338,39 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
   }
   if (part == WalkPart::kBalls) return clear;
   const F nudge = splat(2e-3f * g.voxel_size) / len;
+  const float inv_h = ViewInternals::invVoxelSize(field);
+  const bool second_planes = ViewInternals::hasSecondPlanesFast(field);
   for (int n = 0; n < max_samples && any(active); ++n) {
     const M arrived = active & (t >= t_end);
     clear = clear | arrived;
     active = andNot(active, arrived);
-    const LaneSample here =
-        n == 0 ? firstSample(sb, a + delta * t, s, active & (t != zero)) : sampleBody(sb, a + delta * t, active);
+    const V3 p = a + delta * t;
+    const LaneSample here = n == 0 ? firstSample(sb, p, s, active & (t != zero)) : sampleBody(sb, p, active);
     const M no_field = active & here.no_field; // rounding at a face of the grid: step on
     t = select(no_field, t + nudge, t);
-    M live = andNot(active, no_field);
-    const F q = select(here.far_inside, zero - reach, minOf(reach, here.distance));
-    const F gap = q - margin;
-    const F rest = (t_end - t) * len;
-    // One ball covers the rest: clear when it leaves room, or when the end proves itself outside.
-    const M covers = live & (gap >= rest);
-    const M roomy_end = covers & (gap - rest >= roomy);
-    const M need_end = andNot(covers, roomy_end);
-    clear = clear | roomy_end;
-    if (any(need_end)) {
-      const LaneSample e = sampleBody(sb, a + delta * t_end, need_end);
-      clear = clear | (need_end & (e.far_outside | e.no_field | (e.in_band & (e.distance >= proof))));
+    const M live = andNot(active, no_field);
+    CellLanes c = planCellLanes(g, inv_h, a, delta, t, t_end, len, here, live, reach, margin, proof, roomy);
+    // Where the cell's plane stops the walk or proves nothing, its second plane may read higher.
+    const M retry = (c.stop | c.nothing(live)) & here.in_band;
+    if (second_planes && any(retry)) {
+      const LaneSample better = betterPlaneLanes(field, p, here, retry);
+      const M upgraded = retry & (better.distance > here.distance);
+      if (any(upgraded))
+        c = merge(upgraded,
+                  planCellLanes(g, inv_h, a, delta, t, t_end, len, better, upgraded, reach, margin, proof, roomy), c);
     }
-    active = andNot(active, covers);
-    live = andNot(live, covers);
-    const M far = live & here.far_outside; // a ball that does not reach the end: step on by it
-    t = select(far, t + gap / len, t);
-    live = andNot(live, far);
-    // Inside one cell the field is the cell's plane.
-    const F rate = select(here.in_band, dot(here.normal, delta), zero);
-    const F exit = cellExit(g, ViewInternals::invVoxelSize(field), a, delta, t);
-    const F hit = t + gap / (zero - rate);
-    const M stop = live & (rate < zero) & (gap >= zero) & (hit < exit) & (hit < t_end);
-    const M to_wall = andNot(live, stop) & ((gap >= zero) | ((rate >= zero) & (q >= proof) & here.in_band));
-    const M through = to_wall & (exit >= t_end);
-    clear = clear | through;
-    const M next = andNot(to_wall, through);
-    t = select(next, maxOf(t + gap / len, exit + nudge), t);
-    active = andNot(active, andNot(live, next)); // stops and neighbour bounds go to the scalar walk
+    // One ball covers the rest: clear when it leaves room, or when the end proves itself outside.
+    clear = clear | c.roomy_end;
+    if (any(c.need_end)) {
+      const V3 last = a + delta * t_end;
+      clear = clear | endProven(field, last, sampleBody(sb, last, c.need_end), c.need_end, proof);
+    }
+    active = andNot(active, c.covers);
+    t = select(c.far, t + c.gap / len, t);
+    clear = clear | c.through;
+    t = select(c.next, maxOf(t + c.gap / len, c.exit + nudge), t);
+    // Stops and neighbour bounds go to the scalar walk.
+    active = andNot(active, andNot(andNot(live, c.covers), c.far | c.next));
   }
   return clear | (active & (t >= t_end));
 }

@@ -26,6 +26,16 @@ struct ViewInternals {
     Vec3f unused;
     return v.planeSample(p, out_shading != nullptr ? out_shading : &unused);
   }
+  /// The walk's second look at p (docs/FORMAT.md §5.5): `first`, planeSample(p)'s answer, unless p's
+  /// voxel has a second plane (PLN2) that reads higher at p; then that plane's sample, its distance
+  /// refined at p as the first's is and its normal, with the status its distance gives.
+  static Sample betterPlane(const View& v, Vec3f p, const Sample& first) { return v.betterPlane(p, first); }
+  /// The PLN2 word of voxel `local` (brick order) of tile `tile`, or 0 (no plane).
+  static std::uint32_t secondPlaneWord(const View& v, std::size_t tile, std::uint32_t local) {
+    return v.secondPlaneWord(tile, local);
+  }
+  static float secondStep(const View& v) { return v.second_step_; }
+  static bool hasSecondPlanesFast(const View& v) { return v.second_slots_ != nullptr; }
 };
 
 } // namespace dng

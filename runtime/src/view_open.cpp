@@ -1,4 +1,4 @@
-// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V16, V19 and V20). After it succeeds, every
+// View::open: the one validation pass (docs/FORMAT.md §6, rules V1-V16 and V19-V22). After it succeeds, every
 // offset, size and brick index the query path uses is known to be in range, and every float it
 // reads is finite, so queries need no checks beyond clamping the position.
 #include "diagnostic.h"
@@ -45,6 +45,7 @@ public:
     if (s == Status::kOk) s = checkLift();
     if (s == Status::kOk) s = checkWordNormals(gradient_section_, "V20", false, &view_.gradient_);
     if (s == Status::kOk) s = checkWordNormals(shading_section_, "V21", true, &view_.shading_);
+    if (s == Status::kOk) s = checkSecondPlanes();
     if (s != Status::kOk) return s;
     view_.data_ = data_;
     view_.size_ = size_;
@@ -154,6 +155,7 @@ private:
     case fmt::kTagLift: return &lift_section_;
     case fmt::kTagGradient: return &gradient_section_;
     case fmt::kTagShading: return &shading_section_;
+    case fmt::kTagSecondPlanes: return &second_section_;
     default: return nullptr;
     }
   }
@@ -164,6 +166,7 @@ private:
   Status checkTopEntries(std::uint64_t pool_bricks);
   Status checkLift();
   Status checkWordNormals(const Found& section, const char* rule, bool padded, const std::uint16_t** out);
+  Status checkSecondPlanes();
 
   const std::uint8_t* data_;
   std::size_t size_;
@@ -171,7 +174,7 @@ private:
   fmt::FileHeader header_{};
   std::uint64_t table_end_ = 0;
   Found grid_section_, meta_section_, dense_section_, top_section_, pool_section_, lift_section_, gradient_section_,
-      shading_section_;
+      shading_section_, second_section_;
   GridInfo grid_;
   View view_;
 };
@@ -335,6 +338,59 @@ Status ViewBuilder::checkWordNormals(const Found& section, const char* rule, boo
                 reinterpret_cast<const char*>(&section.copy.tag), (unsigned long long)section.copy.size,
                 (unsigned long long)entries);
   *out = reinterpret_cast<const std::uint16_t*>(at(section.copy.offset));
+  return Status::kOk;
+}
+
+// V22 (1.3): the optional PLN2 section, bricked files only: its header, then whole arrays of masks,
+// first indices and slots, then exactly the planes the masks count. Each slot is kNoSecondPlanes or a
+// block, only plane and brick tiles (the ones with band voxels) have blocks, and each mask word's first
+// index is the count of the planes before it, so every plane index a lookup forms is in range. Every
+// word is a valid plane or none.
+Status ViewBuilder::checkSecondPlanes() {
+  if (!second_section_.present) return Status::kOk;
+  if (grid_.encoding != fmt::Encoding::kBricked)
+    return fail(Status::kBadPayloadSize, "V22", "PLN2 in a dense file: second planes are for bricked files only");
+  const std::uint64_t tiles = top_section_.copy.size / 8, size = second_section_.copy.size;
+  const std::uint64_t mask_words = fmt::secondPlaneMaskWords(view_.brick_log2_);
+  fmt::SecondPlanesHeader header{};
+  if (size >= sizeof header) std::memcpy(&header, at(second_section_.copy.offset), sizeof header);
+  const std::uint64_t expected =
+      sizeof header + std::uint64_t(header.blocks) * mask_words * 12 + tiles * 4 + std::uint64_t(header.planes) * 4;
+  if (size < sizeof header || size != expected)
+    return fail(Status::kBadPayloadSize, "V22",
+                "PLN2 has %llu bytes; %u blocks of second planes, %llu tiles and %u planes need %llu",
+                (unsigned long long)size, header.blocks, (unsigned long long)tiles, header.planes,
+                (unsigned long long)expected);
+  const std::uint8_t* base = at(second_section_.copy.offset) + sizeof header;
+  const auto* masks = reinterpret_cast<const std::uint64_t*>(base);
+  const auto* first = reinterpret_cast<const std::uint32_t*>(masks + header.blocks * mask_words);
+  const auto* slots = first + header.blocks * mask_words;
+  std::uint64_t running = 0;
+  for (std::uint64_t m = 0; m < header.blocks * mask_words; ++m) {
+    if (first[m] != running)
+      return fail(Status::kBadPayloadSize, "V22", "PLN2 mask word %llu starts at plane %u, %llu planes come before it",
+                  (unsigned long long)m, first[m], (unsigned long long)running);
+    running += fmt::bitCount(masks[m]);
+  }
+  if (running != header.planes)
+    return fail(Status::kBadPayloadSize, "V22", "PLN2 masks count %llu planes, the header %u",
+                (unsigned long long)running, header.planes);
+  for (std::uint64_t t = 0; t < tiles; ++t) {
+    if (slots[t] == fmt::kNoSecondPlanes) continue;
+    if (slots[t] >= header.blocks)
+      return fail(Status::kBadTileEntry, "V22", "tile %llu refers to second-plane block %u, PLN2 holds %u",
+                  (unsigned long long)t, slots[t], header.blocks);
+    const fmt::TileKind kind = fmt::entryKind(view_.top_[t]);
+    if (kind != fmt::TileKind::kPlane && kind != fmt::TileKind::kBrick)
+      return fail(Status::kBadTileEntry, "V22", "far tile %llu has a block of second planes", (unsigned long long)t);
+  }
+  view_.second_masks_ = masks;
+  view_.second_first_ = first;
+  view_.second_slots_ = slots;
+  view_.second_words_ = slots + tiles;
+  view_.second_mask_words_ = std::uint32_t(mask_words);
+  view_.second_count_ = header.planes;
+  view_.second_step_ = fmt::secondPlaneStep(grid_.band);
   return Status::kOk;
 }
 

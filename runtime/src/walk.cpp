@@ -10,7 +10,6 @@
 #include <limits>
 
 namespace dng {
-
 namespace {
 
 // The walk reads the planes, which the bake made conservative; a shading normal (SHAD) bounds nothing.
@@ -164,20 +163,64 @@ float slideEnd(const View& field, const NeighbourPoints& points, const float* te
   return t + room;
 }
 
-// The best lower bound of the distance at p the field gives: its own plane, or its neighbours'.
+// The best lower bound of the distance at p the field gives: its own plane, its second plane, or its
+// neighbours'.
 float fieldBound(const View& field, float reach, Vec3f p) {
   const Sample s = planeAt(field, p);
   if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return reach;
   if (s.status == SampleStatus::kInBand && s.distance >= 0.0f) return std::min(s.distance, reach);
+  const Sample second = ViewInternals::betterPlane(field, p, s);
+  if (second.status == SampleStatus::kFarOutside) return reach;
+  if (second.status == SampleStatus::kInBand && second.distance >= 0.0f) return std::min(second.distance, reach);
   return neighbourBound(field, reach, p);
 }
 
-// Whether the field itself proves p outside: its own plane reads >= `proof` there, or a neighbour's
-// bound does. A walk only ever leaves a particle at such a point, so the next step can prove it again.
+// Whether the field itself proves p outside: its own plane reads >= `proof` there, or its second plane,
+// or a neighbour's bound does. A walk only ever leaves a particle at such a point, so the next step can
+// prove it again.
 bool provable(const View& field, float reach, float proof, Vec3f p, const Sample& s) {
   if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return true;
   if (s.status == SampleStatus::kInBand && s.distance >= proof) return true;
+  const Sample second = ViewInternals::betterPlane(field, p, s);
+  if (second.status == SampleStatus::kFarOutside || second.distance >= proof) return true;
   return neighbourBound(field, reach, p) >= proof;
+}
+
+// What one cell's plane, read at the walk's point (t), says about the rest of the walk.
+enum class Verdict {
+  kCovers,  // its ball covers the rest of the segment
+  kFar,     // a far outside voxel: a ball that does not reach the end
+  kStops,   // the plane reaches the margin inside the cell: the walk stops at `hit`
+  kToWall,  // the plane proves the way clear to the cell's wall
+  kNothing, // it proves nothing here (beside an edge): ask more of the field
+};
+
+struct CellPlan {
+  Verdict verdict;
+  float q;     // the sample's value, capped at the reach (-reach far inside)
+  float clear; // q less the margin
+  float rate;  // the plane's change along the segment, per unit t
+  float exit;  // where the segment leaves the cell
+  float hit;   // kStops: where the plane reaches the margin
+};
+
+CellPlan planCell(const GridInfo& g, float inv_h, Vec3f a, Vec3f d, float t, float t_end, float len, const Sample& s,
+                  float reach, float margin, float proof_level) {
+  CellPlan plan{};
+  plan.q = s.status == SampleStatus::kFarInside ? -reach : std::min(s.distance, reach);
+  plan.clear = plan.q - margin;
+  if (plan.clear >= (t_end - t) * len) return plan.verdict = Verdict::kCovers, plan;
+  if (s.status == SampleStatus::kFarOutside) return plan.verdict = Verdict::kFar, plan;
+  plan.rate = s.status == SampleStatus::kInBand ? dot(s.normal, d) : 0.0f;
+  plan.exit = cellExit(g, inv_h, a, d, t);
+  if (plan.rate < 0.0f && plan.clear >= 0.0f) { // approaching: clear until the plane reaches the margin
+    plan.hit = t + plan.clear / -plan.rate;
+    if (plan.hit < plan.exit && plan.hit < t_end) return plan.verdict = Verdict::kStops, plan;
+  }
+  // Clear to the cell's wall: the plane stays above the margin, or rises from a proving value.
+  if (plan.clear >= 0.0f || (plan.rate >= 0.0f && plan.q >= proof_level && s.status == SampleStatus::kInBand))
+    return plan.verdict = Verdict::kToWall, plan;
+  return plan.verdict = Verdict::kNothing, plan;
 }
 
 // Whether a sample proves a ball around its point clear: a far outside voxel, or a plane reading.
@@ -228,15 +271,25 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
   for (int n = 0; n < max_samples; ++n) {
     if (t >= t_end) return {};
     const Vec3f p = a + d * t;
-    const Sample s = n == 0 && t == 0.0f && first != nullptr ? *first : planeAt(field, p);
+    Sample s = n == 0 && t == 0.0f && first != nullptr ? *first : planeAt(field, p);
     if (s.status == SampleStatus::kNoField) { // rounding at a face of the grid
       t += nudge;
       continue;
     }
-    const float q = s.status == SampleStatus::kFarInside ? -reach : std::min(s.distance, reach);
+    CellPlan plan = planCell(g, inv_h, a, d, t, t_end, len, s, reach, margin, proof_level);
+    if (plan.verdict == Verdict::kStops || plan.verdict == Verdict::kNothing) {
+      // Beside an edge the voxel's plane may be the other face's, far below the truth here: its second
+      // plane, where the file has one, may read higher and prove more (docs/FORMAT.md §5.5).
+      const Sample second = ViewInternals::betterPlane(field, p, s);
+      if (second.distance > s.distance) {
+        s = second;
+        plan = planCell(g, inv_h, a, d, t, t_end, len, s, reach, margin, proof_level);
+      }
+    }
+    const float q = plan.q, rate = plan.rate;
     if (q >= proof_level) proof = proof_own = t;
-    float clear = q - margin;
-    if (clear >= (t_end - t) * len) { // one ball covers the rest: the end must be provable too
+    float clear = plan.clear;
+    if (plan.verdict == Verdict::kCovers) { // one ball covers the rest: the end must be provable too
       if (clear - (t_end - t) * len >= roomy) return {};
       const Vec3f end = a + d * t_end;
       if (provable(field, reach, proof_level, end, planeAt(field, end))) return {};
@@ -244,22 +297,16 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       // cannot resolve): turn back from the last point it can.
       return stopAt(WalkStop::kReverse, last_proof(), back);
     }
-    if (s.status == SampleStatus::kFarOutside) {
+    if (plan.verdict == Verdict::kFar) {
       t += clear / len;
       continue;
     }
-    const float rate = s.status == SampleStatus::kInBand ? dot(s.normal, d) : 0.0f; // the plane's change along d
-    const float exit = cellExit(g, inv_h, a, d, t);
-    if (rate < 0.0f && clear >= 0.0f) { // approaching: clear until the plane reaches the margin
-      const float hit = t + clear / -rate;
-      if (hit < exit && hit < t_end) return stopAt(WalkStop::kPlane, hit, s.normal);
-    }
-    if (clear >= 0.0f || (rate >= 0.0f && q >= proof_level && s.status == SampleStatus::kInBand)) {
-      // Clear to the cell's wall: the plane stays above the margin, or rises from a proving value, so
-      // it proves every point up to the wall; the ball may reach further.
-      proof = proof_own = std::min(exit - nudge, t_end);
-      if (exit >= t_end) return {};
-      t = std::max(exit + nudge, t + clear / len);
+    if (plan.verdict == Verdict::kStops) return stopAt(WalkStop::kPlane, plan.hit, s.normal);
+    if (plan.verdict == Verdict::kToWall) {
+      // The plane proves every point up to the wall; the ball may reach further.
+      proof = proof_own = std::min(plan.exit - nudge, t_end);
+      if (plan.exit >= t_end) return {};
+      t = std::max(plan.exit + nudge, t + clear / len);
       continue;
     }
     // This cell's plane cannot clear the way: ask the cells around the point.

@@ -6,9 +6,12 @@
 //     so the segment may advance by q (sphere tracing, as in a swept step);
 //   - a plane: inside one cell the field is the linear function q + n . (x - p), so the segment is
 //     clear up to where that plane reaches the margin, or to the cell's exit when it does not;
-//   - where the own cell's plane proves nothing (beside an edge), the neighbouring cells' planes: the
-//     best one's value, less the distance to its cell, is a ball, and it also holds while the point
-//     slides along with a twin point in that cell (walk.cpp slideEnd).
+//   - where the own cell's plane stops the walk or proves nothing (beside an edge, where it may be the
+//     other face's plane), the cell's second plane when the file has one (PLN2, docs/FORMAT.md §5.5)
+//     and it reads higher: the larger of two lower bounds is one too;
+//   - where neither proves anything, the neighbouring cells' planes: the best one's value, less the
+//     distance to its cell, is a ball, and it also holds while the point slides along with a twin
+//     point in that cell (walk.cpp slideEnd).
 // Each sample advances by the largest of these. Near a surface that is a few samples per cell the
 // segment crosses; away from it one ball covers the whole step.
 #pragma once

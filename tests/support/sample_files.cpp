@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 
 namespace dng {
@@ -83,6 +84,26 @@ std::vector<std::uint8_t> smallBrickedBoxShaded() {
   format::DenseField field = loweredBoxField();
   addTiltedShading(&field);
   return encodedAsTheBox(field, R"({"test":"small bricked box, lifted and shaded"})");
+}
+
+void addUnloweredSecondPlanes(format::DenseField* field) {
+  const format::GridGeometry& g = field->grid;
+  field->second_distance.assign(g.voxelCount(), -std::numeric_limits<float>::infinity());
+  field->second_normal.assign(g.voxelCount(), Vec3f{});
+  for (std::uint32_t k = 0; k < g.dims[2]; ++k)
+    for (std::uint32_t j = 0; j < g.dims[1]; ++j)
+      for (std::uint32_t i = 0; i < g.dims[0]; ++i) {
+        const std::size_t v = g.index(i, j, k);
+        if ((i + j + k) % 3 == 0 || !(std::fabs(field->accurate[v]) < g.band)) continue;
+        field->second_distance[v] = field->accurate[v];
+        field->second_normal[v] = field->normal[v];
+      }
+}
+
+std::vector<std::uint8_t> smallBrickedBoxSecondPlanes() {
+  format::DenseField field = loweredBoxField();
+  addUnloweredSecondPlanes(&field);
+  return encodedAsTheBox(field, R"({"test":"small bricked box, lifted, with second planes"})");
 }
 
 std::vector<std::uint8_t> smallBrickedBoxGraded() {

@@ -37,6 +37,14 @@ void addTiltedShading(format::DenseField* field);
 /// loweredBoxField() with addTiltedShading, encoded as smallBrickedBox is, with metadata.
 std::vector<std::uint8_t> smallBrickedBoxShaded();
 
+/// Gives `field` (loweredBoxField or another lowered convex field) second planes: each chosen band
+/// voxel's plane before the lowering (its accurate distance and its normal), which bounds a convex
+/// solid's distance everywhere. Chosen: the voxels where (i + j + k) % 3 != 0, so blocks are sparse.
+void addUnloweredSecondPlanes(format::DenseField* field);
+/// loweredBoxField() with addUnloweredSecondPlanes, encoded as smallBrickedBox is, with metadata: a
+/// PLN2 section.
+std::vector<std::uint8_t> smallBrickedBoxSecondPlanes();
+
 /// Byte offset of the table entry of the first section with `tag`, or 0 when absent.
 std::size_t entryOffset(const std::vector<std::uint8_t>& bytes, std::uint32_t tag);
 /// The table entry of the first section with `tag` (zeroed when absent).

@@ -8,7 +8,8 @@
 //   far outside / far inside: bits 2-63 zero
 //   plane: bits 2-16 octahedral u (15 bits), bits 17-31 v (15 bits), bits 32-63 float32 d_c
 //   brick: bits 2-31 pool index, bits 32-47 lo16, bits 48-63 hi16 (distance range, see below)
-// Pool word (32 bits): bits 0-10 octahedral u, bits 11-21 v, bits 22-31 distance q10.
+// Pool word (32 bits): bits 0-10 octahedral u, bits 11-21 v, bits 22-31 distance q10. PLN2 words have
+// the same layout with the range [-band, band] and q10 = 0 meaning "no plane".
 // Distance range: lo = -band + lo16 * (2 band / 65535), likewise hi; voxel distance
 // d = lo + q10 * (hi - lo) / 1023, where q10 = 1023 gives hi and lo16/hi16 = 65535 give +band exactly.
 #pragma once
@@ -156,6 +157,54 @@ inline std::uint16_t gradientWord(Vec3f n) {
 
 inline Vec3f gradientNormal(std::uint16_t word) {
   return octDecode(word & 0xFFu, std::uint32_t(word) >> kGradientOctBits, kGradientOctBits);
+}
+
+/// PLN2 (since 1.3): a tile's slot when it has no block of second planes.
+inline constexpr std::uint32_t kNoSecondPlanes = 0xFFFFFFFFu;
+
+/// PLN2 mask words per block: one bit per voxel of a tile of 2^log2 voxels a side.
+inline constexpr std::uint32_t secondPlaneMaskWords(std::uint32_t log2) { return (1u << (3 * log2)) / 64u; }
+
+/// Bits set in `x` (what std::popcount does in C++20), without a table or a CPU feature.
+constexpr std::uint32_t bitCount(std::uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ull);
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return std::uint32_t((x * 0x0101010101010101ull) >> 56);
+}
+
+/// Step between consecutive distance codes of PLN2 words: their range is the whole band, [-b, b].
+inline float secondPlaneStep(float band) { return 2.0f * band / float(kWordDistanceMax); }
+
+/// Whether a PLN2 word holds a plane: distance code 0 is "none" (a plane reading -band at the voxel
+/// centre bounds nothing a first plane does not).
+inline bool hasSecondPlane(std::uint32_t word) { return (word >> (2 * kWordOctBits)) != 0; }
+
+/// A PLN2 word's distance at its voxel centre: -band + code * step, code 1023 giving +band exactly.
+inline float secondPlaneDistance(std::uint32_t word, float band, float step) {
+  const std::uint32_t code = word >> (2 * kWordOctBits);
+  return code == kWordDistanceMax ? band : -band + float(code) * step;
+}
+
+/// The PLN2 word of a plane with normal `normal` (unit) reading `distance` at the voxel centre: the
+/// normal quantized as pool words quantize theirs (wordNormal decodes it), the distance rounded down
+/// after lowering it by what the quantized normal's tilt can add over the cell, so the stored plane
+/// never rises above the given one (docs/FORMAT.md §5.5). A distance too low for any code (or not a
+/// number) gives the word of no plane.
+inline std::uint32_t secondPlaneWord(Vec3f normal, float distance, float band, float voxel_size) {
+  std::uint32_t qu = 0, qv = 0;
+  octEncode(normal, kWordOctBits, &qu, &qv);
+  const std::uint32_t mask = (1u << kWordOctBits) - 1;
+  const Vec3f tilt = octDecode(qu & mask, qv & mask, kWordOctBits) - normal;
+  const float target = distance - (std::fabs(tilt.x) + std::fabs(tilt.y) + std::fabs(tilt.z)) * 0.5f * voxel_size;
+  const float step = secondPlaneStep(band);
+  if (!(target >= -band + step)) return 0;
+  std::uint32_t code = target >= band ? kWordDistanceMax : std::uint32_t(std::floor((target + band) / step));
+  code = code < 1 ? 1 : code > kWordDistanceMax ? kWordDistanceMax : code;
+  const auto word = [&](std::uint32_t c) { return qu | qv << kWordOctBits | c << (2 * kWordOctBits); };
+  while (code > 1 && secondPlaneDistance(word(code), band, step) > target)
+    --code;
+  return secondPlaneDistance(word(code), band, step) > target ? 0 : word(code);
 }
 
 /// Step between consecutive 10-bit distance codes of a brick whose range is [lo, hi].

@@ -60,6 +60,18 @@ public:
     (void)box;
     (void)shading;
   }
+  /// True when readSecondPlanes() has values: the bricked encoder then writes a PLN2 section
+  /// (docs/FORMAT.md §5.5).
+  virtual bool hasSecondPlanes() const { return false; }
+  /// Writes box.count() second planes, x fastest: each voxel's distance at its centre and unit normal,
+  /// a plane that bounds the true distance from below over the voxel's cell as read()'s does, or a
+  /// distance of -infinity where the voxel has none. Called only when hasSecondPlanes(); threading as
+  /// read().
+  virtual void readSecondPlanes(const VoxelBox& box, float* distance, Vec3f* normal) const {
+    (void)box;
+    (void)distance;
+    (void)normal;
+  }
   /// A shortcut for empty space: kUnknown unless the source knows the whole box is far on one side.
   /// A source may always answer kUnknown; a wrong answer other than kUnknown is a bug.
   virtual FarHint farHint(const VoxelBox& box) const {
@@ -83,6 +95,11 @@ public:
   void readGradient(const VoxelBox& box, Vec3f* gradient) const override { copyBox(field_.gradient, box, gradient); }
   bool hasShading() const override { return !field_.shading.empty(); }
   void readShading(const VoxelBox& box, Vec3f* shading) const override { copyBox(field_.shading, box, shading); }
+  bool hasSecondPlanes() const override { return !field_.second_distance.empty(); }
+  void readSecondPlanes(const VoxelBox& box, float* distance, Vec3f* normal) const override {
+    copyBox(field_.second_distance, box, distance);
+    copyBox(field_.second_normal, box, normal);
+  }
 
 private:
   // The box's entries of one per-voxel array, x fastest.

@@ -22,7 +22,8 @@ inline constexpr unsigned char kMagic[8] = {0x89, 'D', 'N', 'G', '\r', '\n', 0x1
 /// A major bump breaks compatibility; a minor bump only adds (new optional sections, new fields in
 /// reserved bytes that older readers may ignore).
 inline constexpr std::uint16_t kVersionMajor = 1;
-inline constexpr std::uint16_t kVersionMinor = 3; ///< 1.1: GridSection::flags; 1.2: LIFT and GRAD; 1.3: SHAD
+/// 1.1: GridSection::flags; 1.2: LIFT and GRAD; 1.3: SHAD and PLN2.
+inline constexpr std::uint16_t kVersionMinor = 3;
 
 inline constexpr std::uint32_t kHeaderSize = 128;
 inline constexpr std::uint32_t kSectionAlignment = 64;
@@ -56,6 +57,14 @@ inline constexpr std::uint32_t kTagGradient = makeTag('G', 'R', 'A', 'D');
 /// per voxel (dense), in their orders, then one u16 of zero padding when the count is odd, so that
 /// readers may load the section 32 bits at a time. A reader that ignores it reads the planes' normals.
 inline constexpr std::uint32_t kTagShading = makeTag('S', 'H', 'A', 'D');
+/// Optional, since 1.3, bricked files only: a second conservative plane for the few voxels beside edges
+/// where one plane cannot bound the distance well over the whole cell (docs/FORMAT.md §5.5), stored
+/// sparsely: SecondPlanesHeader, then per block of planes a bit mask of its tile's voxels (B^3 / 64
+/// u64 each), then per mask word the index of its first plane (u32), then one u32 slot per BTOP entry
+/// (kNoSecondPlanes, or the tile's block), then the planes (secondPlaneWord, codec.h), block by block
+/// in voxel order. Only the step's walk reads them; a reader that ignores the section proves less
+/// beside edges, never wrongly.
+inline constexpr std::uint32_t kTagSecondPlanes = makeTag('P', 'L', 'N', '2');
 
 /// File header: 128 bytes at offset 0.
 struct FileHeader {
@@ -114,6 +123,12 @@ struct DenseVoxel {
   float normal[3]; // 4   unit normal (any finite vector is accepted and used as stored)
 };
 
+/// The start of a PLN2 section: 8 bytes.
+struct SecondPlanesHeader {
+  std::uint32_t blocks; // 0  tiles with second planes
+  std::uint32_t planes; // 4  second planes in all
+};
+
 /// Kind of a brick-top entry, stored in its low two bits.
 enum class TileKind : std::uint32_t {
   kFarOutside = 0, ///< every voxel at distance >= band: no payload
@@ -160,6 +175,9 @@ static_assert(offsetof(GridSection, brick_dims) == 40);
 static_assert(offsetof(GridSection, tolerance_distance) == 52);
 static_assert(offsetof(GridSection, tolerance_normal_deg) == 56);
 static_assert(offsetof(GridSection, flags) == 60);
+
+static_assert(sizeof(SecondPlanesHeader) == 8, "SecondPlanesHeader is 8 bytes on disk");
+static_assert(offsetof(SecondPlanesHeader, planes) == 4);
 
 static_assert(sizeof(DenseVoxel) == 16, "DenseVoxel is 16 bytes on disk");
 static_assert(offsetof(DenseVoxel, normal) == 4);
