@@ -157,7 +157,8 @@ def table1_section(path, table_mesh="fandisk"):
           "from before to after the method's move, is tested against the original triangles with Embree; a "
           "segment that meets any triangle counts. *Memory*: the mapped `.dng`, baked with `--no-lift` (the step "
           "never reads the LIFT section, which adds about a third for accurate queries; the normal-blur bakes "
-          "carry their SHAD section, which the responses read); Embree's vertex, index and BVH "
+          "carry their SHAD section, which the responses read, and every bake its second planes, PLN2, which the "
+          "walk reads beside edges); Embree's vertex, index and BVH "
           "allocations as its memory-monitor callback reported them; the NanoVDB grid buffer. Particles (24 bytes "
           "each) come on top for every method.\n")
     header = "| method |" + "".join(" ns/particle-step (%s) | vs no collision | vs Embree best |" % format(n, ",")
@@ -197,17 +198,19 @@ def table1_section(path, table_mesh="fandisk"):
               "Embree's best and %.1fx the no-collision loop. Exact normals make tighter planes beside sharp edges, "
               "so fewer particles need the walk's neighbour bound; the blurred modes give smoother normals for "
               "drag and flow (docs/BAKING.md)." % (exact, best["ns"] / exact, exact / r("plain")))
-    print("\n*Where the time goes* (a profile, not part of this run: callgrind on `bench/swarm_hash --lifetime 8 "
-          "--near 0.1 --speed 0.6`, a swarm kept near `fandisk.off` as this one is, 20,000 particles, 16 steps). "
+    print("\n*Where the time goes* (a profile, not part of this run: callgrind, 20,000 particles, 16 steps). "
           "Every particle here stays within 2 voxels of the surface, so almost none is settled by its first sample "
-          "alone, and each particle-step takes the response's sample and at least one more to prove its move. The "
-          "normal-blur bake takes 266 instructions per particle-step, the exact one 248; a format 1.2 normal-blur "
-          "bake, whose planes followed its blurred normals, took 330, 27% of them in the 1.4% of particle-steps "
-          "handed to the scalar walk because the planes beside sharp edges read below its margin. That share is "
-          "12% now. The two modes' instructions differ by 7% and their times above by more; what differs besides "
-          "is memory: the blurred file has more bricks (87 plane tiles against 177) and a shading normal to read "
-          "per response, and callgrind's simulated L1 misses are 3.1 against 2.0 per particle-step. What Embree pays for a short segment near a 12,946-triangle mesh is a "
-          "shallow BVH descent; what the field pays is fixed per sample.")
+          "alone, and each particle-step takes the response's sample and at least one more to prove its move. On "
+          "`bench/swarm_hash --lifetime 8 --near 0.1 --speed 0.6`, a swarm spawned where the field reads 0.1 to 2 "
+          "voxels, the normal-blur bake takes 242 instructions per particle-step and the exact one 229, 8% and 7% "
+          "of them in the particle-steps handed to the scalar walk. This table's own swarm (the same spawn "
+          "points, 12 steps of 100,000 particles) takes 263 in normal-blur, 18% of them handed over: 0.8% of its "
+          "spawn points lie where the planes cannot prove them outside, mostly in cells a concave crease of "
+          "fandisk crosses (FORMAT.md §5.5), and those particles never move and are handed over every step. "
+          "Of the rest, the two samples (the response's with its shading normal, about 370 instructions per "
+          "register of 8 particles, and the walk's, about 290) are 36% of the instructions, the rules 6%, the "
+          "walks set aside and walked cell by cell together 9%. What Embree pays for a short segment near a "
+          "12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
     sweep_n = min(n for (m, n, _) in rows if m != table_mesh) if any(m != table_mesh for (m, _, _) in rows) else n
