@@ -35,29 +35,44 @@ Vec3f closestOnTriangle(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-struct QueryState {
+// The soup behind a scene, and which of its triangles each Embree primitive is.
+struct SceneTriangles {
   const TriangleSoup* soup;
   const std::vector<std::uint32_t>* triangle_of_primitive;
+};
+
+// The triangle of the primitive a point query reached, and its point closest to the query's.
+struct Reached {
+  std::uint32_t triangle;
+  Vec3f closest;
+  float distance;
+};
+
+Reached reached(const RTCPointQueryFunctionArguments* args, const SceneTriangles& scene) {
+  const std::uint32_t t = (*scene.triangle_of_primitive)[args->primID];
+  const auto& tri = scene.soup->triangles[t];
+  const Vec3f p{args->query->x, args->query->y, args->query->z};
+  const Vec3f q =
+      closestOnTriangle(p, scene.soup->vertices[tri[0]], scene.soup->vertices[tri[1]], scene.soup->vertices[tri[2]]);
+  return {t, q, length(p - q)};
+}
+
+struct QueryState {
+  SceneTriangles scene;
   ClosestPointIndex::Hit hit;
 };
 
 bool visitTriangle(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<QueryState*>(args->userPtr);
-  const std::uint32_t t = (*state->triangle_of_primitive)[args->primID];
-  const auto& tri = state->soup->triangles[t];
-  const Vec3f p{args->query->x, args->query->y, args->query->z};
-  const Vec3f q =
-      closestOnTriangle(p, state->soup->vertices[tri[0]], state->soup->vertices[tri[1]], state->soup->vertices[tri[2]]);
-  const float d = length(p - q);
-  if (!(d < args->query->radius)) return false;
-  args->query->radius = d; // prune the rest of the walk
-  state->hit = {true, d, q, t};
+  const Reached r = reached(args, state->scene);
+  if (!(r.distance < args->query->radius)) return false;
+  args->query->radius = r.distance; // prune the rest of the walk
+  state->hit = {true, r.distance, r.closest, r.triangle};
   return true;
 }
 
 struct NearState {
-  const TriangleSoup* soup;
-  const std::vector<std::uint32_t>* triangle_of_primitive;
+  SceneTriangles scene;
   void (*visit)(void* user, std::uint32_t triangle);
   void* user;
 };
@@ -65,13 +80,20 @@ struct NearState {
 // Every triangle whose bounds the walk reaches, kept when its closest point is within the radius.
 bool visitNear(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<NearState*>(args->userPtr);
-  const std::uint32_t t = (*state->triangle_of_primitive)[args->primID];
-  const auto& tri = state->soup->triangles[t];
-  const Vec3f p{args->query->x, args->query->y, args->query->z};
-  const Vec3f q =
-      closestOnTriangle(p, state->soup->vertices[tri[0]], state->soup->vertices[tri[1]], state->soup->vertices[tri[2]]);
-  if (length(p - q) < args->query->radius) state->visit(state->user, t);
+  const Reached r = reached(args, state->scene);
+  if (r.distance < args->query->radius) state->visit(state->user, r.triangle);
   return false; // the radius stays: every triangle within it is wanted
+}
+
+// Embree's walk of `scene` for the ball of `radius` around p, calling `visit` with `state`.
+void pointQuery(RTCScene scene, Vec3f p, float radius, RTCPointQueryFunction visit, void* state) {
+  RTCPointQuery query;
+  query.x = p.x, query.y = p.y, query.z = p.z;
+  query.time = 0.0f;
+  query.radius = radius;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(scene, &query, &context, visit, state);
 }
 
 } // namespace
@@ -126,27 +148,15 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
 }
 
 ClosestPointIndex::Hit ClosestPointIndex::query(Vec3f p, float radius) const {
-  RTCPointQuery query;
-  query.x = p.x, query.y = p.y, query.z = p.z;
-  query.time = 0.0f;
-  query.radius = radius;
-  RTCPointQueryContext context;
-  rtcInitPointQueryContext(&context);
-  QueryState state{impl_->soup, &impl_->triangle_of_primitive, {}};
-  rtcPointQuery(impl_->scene, &query, &context, visitTriangle, &state);
+  QueryState state{{impl_->soup, &impl_->triangle_of_primitive}, {}};
+  pointQuery(impl_->scene, p, radius, visitTriangle, &state);
   return state.hit;
 }
 
 void ClosestPointIndex::forEachNear(Vec3f p, float radius, void (*visit)(void* user, std::uint32_t triangle),
                                     void* user) const {
-  RTCPointQuery query;
-  query.x = p.x, query.y = p.y, query.z = p.z;
-  query.time = 0.0f;
-  query.radius = radius;
-  RTCPointQueryContext context;
-  rtcInitPointQueryContext(&context);
-  NearState state{impl_->soup, &impl_->triangle_of_primitive, visit, user};
-  rtcPointQuery(impl_->scene, &query, &context, visitNear, &state);
+  NearState state{{impl_->soup, &impl_->triangle_of_primitive}, visit, user};
+  pointQuery(impl_->scene, p, radius, visitNear, &state);
 }
 
 } // namespace baker
