@@ -157,7 +157,7 @@ def table1_section(path, table_mesh="fandisk"):
           "from before to after the method's move, is tested against the original triangles with Embree; a "
           "segment that meets any triangle counts. *Memory*: the mapped `.dng`, baked with `--no-lift` (the step "
           "never reads the LIFT section, which adds about a third for accurate queries; the normal-blur bakes "
-          "carry their SHAD section, which the responses read, and every bake its second planes, PLN2, which the "
+          "carry their SHAD section, which the responses read, and every bake its second bounds, PLN2, which the "
           "walk reads beside edges); Embree's vertex, index and BVH "
           "allocations as its memory-monitor callback reported them; the NanoVDB grid buffer. Particles (24 bytes "
           "each) come on top for every method.\n")
@@ -202,14 +202,14 @@ def table1_section(path, table_mesh="fandisk"):
           "Every particle here stays within 2 voxels of the surface, so almost none is settled by its first sample "
           "alone, and each particle-step takes the response's sample and at least one more to prove its move. On "
           "`bench/swarm_hash --lifetime 8 --near 0.1 --speed 0.6`, a swarm spawned where the field reads 0.1 to 2 "
-          "voxels, the normal-blur bake takes 242 instructions per particle-step and the exact one 229, 8% and 7% "
+          "voxels, the normal-blur bake takes 238 instructions per particle-step and the exact one 222, 6% and 3% "
           "of them in the particle-steps handed to the scalar walk. This table's own swarm (the same spawn "
-          "points, 12 steps of 100,000 particles) takes 263 in normal-blur, 18% of them handed over: 0.8% of its "
-          "spawn points lie where the planes cannot prove them outside, mostly in cells a concave crease of "
-          "fandisk crosses (FORMAT.md §5.5), and those particles never move and are handed over every step. "
-          "Of the rest, the two samples (the response's with its shading normal, about 370 instructions per "
-          "register of 8 particles, and the walk's, about 290) are 36% of the instructions, the rules 6%, the "
-          "walks set aside and walked cell by cell together 9%. What Embree pays for a short segment near a "
+          "points, 12 steps of 100,000 particles) takes 245 in normal-blur, 12% of them handed over: 0.1% of its "
+          "spawn points lie where neither the planes nor the second bounds can prove them outside (FORMAT.md "
+          "§5.5), and those particles never move and are handed over every step. "
+          "In all, the two samples (the response's with its shading normal, about 370 instructions per "
+          "register of 8 particles, and the walk's, about 290) are 39% of the instructions, the rules 7%, the "
+          "walks set aside and walked cell by cell together 10%. What Embree pays for a short segment near a "
           "12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).

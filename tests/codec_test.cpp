@@ -154,6 +154,25 @@ TEST(SecondPlaneWords, EveryWordDecodesToAFiniteDistanceInTheBand) {
   }
 }
 
+// A pair's record keeps the plane word in its low bits and rounds the raise down to a code, so the
+// raised first plane it stands for never rises above the one given.
+TEST(SecondPlaneWords, PairsRoundTheirRaiseDown) {
+  const float band = 3.0f, h = 0.5f, step = secondPlaneRaiseStep(band);
+  const std::uint32_t word = secondPlaneWord(normalizeOrZero({0.2f, -0.3f, 0.9f}), 0.4f, band, h);
+  ASSERT_TRUE(hasSecondPlane(word));
+  EXPECT_EQ(secondPlaneRecord(word, -1.0f, band), std::uint64_t(word)); // a plane alone
+  EXPECT_EQ(secondPlaneRecord(word, std::nanf(""), band), std::uint64_t(word));
+  EXPECT_EQ(secondPlaneRecord(0, 0.5f, band), 0u); // no plane, no pair
+  for (float raise : {0.0f, 1e-5f, 0.123456f, 1.0f, 2.99f, 3.0f, 7.0f}) {
+    const std::uint64_t record = secondPlaneRecord(word, raise, band);
+    ASSERT_TRUE(isSecondPlanePair(record)) << raise;
+    EXPECT_EQ(std::uint32_t(record), word);
+    EXPECT_LE(secondPlaneRaise(record, step), raise) << raise;
+    EXPECT_GT(secondPlaneRaise(record, step), std::min(raise, band) - 2.0f * step) << raise;
+    EXPECT_EQ(record >> 49, 0u); // reserved bits
+  }
+}
+
 TEST(BitCount, CountsEveryBit) {
   std::mt19937_64 rng(5);
   for (int n = 0; n < 1000; ++n) {

@@ -33,14 +33,19 @@ enum class Extras { kNone, kLift, kLiftAndGradient, kShading, kSecondPlanes };
 // a 1.3 blurred bake's.
 void addExtras(Extras extras, format::DenseField* io) {
   if (extras == Extras::kNone) return;
-  if (extras == Extras::kSecondPlanes) { // planes lowered by up to half a voxel, the unlowered ones beside
+  if (extras == Extras::kSecondPlanes) {
+    // Planes lowered by up to half a voxel, and the unlowered ones beside them: alone, or every third as
+    // a pair with the own plane raised back (the lanes leave pairs to the scalar walk).
     const float band = io->grid.band;
     io->second_distance.assign(io->distance.size(), -std::numeric_limits<float>::infinity());
     io->second_normal.assign(io->distance.size(), Vec3f{});
+    io->second_raise.assign(io->distance.size(), -1.0f);
     for (std::size_t n = 0; n < io->distance.size(); ++n) {
       if (!(std::fabs(io->distance[n]) < band)) continue;
-      io->second_distance[n] = io->distance[n], io->second_normal[n] = io->normal[n];
-      io->distance[n] -= 0.3f + 0.2f * std::sin(0.37f * float(n));
+      const float lowering = 0.3f + 0.2f * std::sin(0.37f * float(n));
+      io->second_distance[n] = io->distance[n] + (n % 3 == 0 ? 0.2f : 0.0f), io->second_normal[n] = io->normal[n];
+      if (n % 3 == 0) io->second_raise[n] = lowering;
+      io->distance[n] -= lowering;
     }
     return;
   }
@@ -423,7 +428,7 @@ TEST(InstructionSet, StepGivesTheScalarResultsWithSecondPlanes) {
   format::DenseField lowered =
       analytic::sampleField(analytic::cubeGrid({-20, -20, -20}, 1.0f, 40, kReachVoxels + 0.8661f), box);
   addExtras(Extras::kSecondPlanes, &lowered);
-  lowered.second_distance.clear(), lowered.second_normal.clear();
+  lowered.second_distance.clear(), lowered.second_normal.clear(), lowered.second_raise.clear();
   const format::EncodeResult plain = format::encodeBricked(lowered, {}, "");
   View plain_view;
   ASSERT_EQ(View::open(plain.bytes.data(), plain.bytes.size(), &plain_view), Status::kOk);

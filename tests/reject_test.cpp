@@ -330,7 +330,7 @@ TEST(Verify, NonZeroPaddingIsDamage) {
 }
 
 // Each failure names its FORMAT.md rule in Diagnostic::rule, the same ID dngdump prints.
-// V22: the second planes' section must add up (header, masks, first indices, slots, planes), its first
+// V22: the second planes' section must add up (header, masks, records, first indices, slots), its first
 // indices must count the planes before them, its slots name blocks it holds on tiles with band voxels,
 // and dense files have none.
 TEST(Reject, SecondPlanesThatDoNotAddUp) {
@@ -339,7 +339,8 @@ TEST(Reject, SecondPlanesThatDoNotAddUp) {
   const auto section = entryOf(file, format::kTagSecondPlanes);
   const auto header = peek<format::SecondPlanesHeader>(file, section.offset);
   ASSERT_GT(header.blocks, 1u);
-  const std::size_t masks = section.offset + 8, first = masks + header.blocks * 8, slots = first + header.blocks * 4;
+  const std::size_t masks = section.offset + 8, first = masks + header.blocks * 8 + header.planes * 8,
+                    slots = first + header.blocks * 4;
   const auto reject = [&](Bytes bytes, const char* what) {
     format::resealHashes(bytes);
     View view;
@@ -347,7 +348,7 @@ TEST(Reject, SecondPlanesThatDoNotAddUp) {
     EXPECT_NE(View::open(bytes.data(), bytes.size(), &view, &diag), Status::kOk) << what;
     EXPECT_STREQ(diag.rule, "V22") << what;
   };
-  reject(withEntry(file, format::kTagSecondPlanes, [](SectionEntry& e) { e.size -= 4; }), "a plane short");
+  reject(withEntry(file, format::kTagSecondPlanes, [](SectionEntry& e) { e.size -= 8; }), "a record short");
   Bytes planes = file;
   poke(planes, section.offset + 4, header.planes + 1);
   reject(planes, "the header counts more planes than there are");

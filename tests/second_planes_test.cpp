@@ -47,13 +47,13 @@ TEST(SecondPlanes, OnlyBricksCarryThemAndOnlyWhereVoxelsHaveOne) {
   const std::vector<std::uint8_t> bytes = testing::smallBrickedBoxSecondPlanes();
   const View view = openView(bytes);
   ASSERT_TRUE(view.hasSecondPlanes());
-  // Sparse: a header, a mask and first indices per block, a slot per tile, a word per plane only.
+  // Sparse: a header, masks and first indices per block, a slot per tile, a record per plane only.
   format::DenseField field = testing::loweredBoxField();
   testing::addUnloweredSecondPlanes(&field);
   const format::SectionEntry section = testing::entryOf(bytes, format::kTagSecondPlanes);
   const auto header = testing::peek<format::SecondPlanesHeader>(bytes, section.offset);
   const std::uint64_t tiles = 6 * 6 * 6;
-  EXPECT_EQ(section.size, 8u + header.blocks * 12u + tiles * 4u + header.planes * 4u);
+  EXPECT_EQ(section.size, 8u + header.blocks * 12u + tiles * 4u + header.planes * 8u);
   std::uint64_t planes_given = 0;
   for (float d : field.second_distance)
     planes_given += std::isfinite(d) ? 1 : 0;
@@ -64,8 +64,9 @@ TEST(SecondPlanes, OnlyBricksCarryThemAndOnlyWhereVoxelsHaveOne) {
   EXPECT_FALSE(openView(testing::smallBrickedBoxLifted()).hasSecondPlanes());
 }
 
-// The higher of the two planes, each refined at p: where the voxel has a second plane, its unlowered
-// plane (within quantization), which on a box bounds the true distance; elsewhere the first, bit for bit.
+// The higher of the two bounds, each refined at p: where the voxel has a second one, its unlowered plane
+// (within quantization; a pair's smaller plane is the own plane raised back to it), which on a box bounds
+// the true distance; elsewhere the first plane, bit for bit.
 TEST(SecondPlanes, LowerBoundReadsTheHigherOfTheTwoPlanes) {
   format::DenseField field = testing::loweredBoxField();
   testing::addUnloweredSecondPlanes(&field);
@@ -101,7 +102,8 @@ TEST(SecondPlanes, LowerBoundReadsTheHigherOfTheTwoPlanes) {
   EXPECT_GT(firsts, 150);
 }
 
-// The lowered box with every band voxel's unlowered plane as its second: particles 0.15 to 0.5 voxel
+// The lowered box with every band voxel's unlowered plane as its second bound (a third of them as pairs
+// with the own plane raised back): particles 0.15 to 0.5 voxel
 // above the top face, moving along it at 0.4 voxel per step, where the lowered planes (0.05 to 0.55
 // voxel below the truth) leave many unproven. With the second planes every one keeps its whole move;
 // without them many stay where they are, as the walk's limit says (docs/RUNTIME.md, "Limits").
@@ -109,13 +111,13 @@ TEST(SecondPlanes, TheWalkMovesParticlesTheFirstPlanesCannotProve) {
   format::DenseField field = testing::loweredBoxField();
   testing::addUnloweredSecondPlanes(&field);
   for (std::size_t v = 0; v < field.distance.size(); ++v) {
-    if (std::fabs(field.accurate[v]) < field.grid.band) {
+    if (std::fabs(field.accurate[v]) < field.grid.band && !std::isfinite(field.second_distance[v])) {
       field.second_distance[v] = field.accurate[v];
       field.second_normal[v] = field.normal[v];
     }
   }
   const std::vector<std::uint8_t> with_bytes = encodeBricks(field);
-  field.second_distance.clear(), field.second_normal.clear();
+  field.second_distance.clear(), field.second_normal.clear(), field.second_raise.clear();
   const std::vector<std::uint8_t> without_bytes = encodeBricks(field);
   const View with = openView(with_bytes), without = openView(without_bytes);
   ASSERT_TRUE(with.hasSecondPlanes());

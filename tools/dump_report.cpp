@@ -118,8 +118,9 @@ void printSummary(std::FILE* out, const std::string& path, const View& view) {
                view.hasShading() ? "yes (queries and responses read the mode's normals; the walk reads the planes')"
                                  : "none (queries and responses read the planes' normals)");
   if (view.hasSecondPlanes()) {
-    std::fprintf(out, "  second     %u planes (the walk reads them where a voxel's own plane proves nothing)\n",
-                 view.secondPlaneCount());
+    std::fprintf(
+        out, "  second     %u voxels with a second bound (the walk reads it where their own plane proves nothing)\n",
+        view.secondPlaneCount());
   } else {
     std::fprintf(out, "  second     none (the walk reads the voxels' own planes, then their neighbours')\n");
   }

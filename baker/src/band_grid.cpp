@@ -154,20 +154,23 @@ void BandGrid::startSecondPlanes() {
   const float none = -std::numeric_limits<float>::infinity();
   impl_->second_distance = openvdb::FloatGrid::create(none);
   impl_->second_normal = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+  impl_->second_raise = openvdb::FloatGrid::create(-1.0f);
   for (auto leaf = impl_->distance->tree().cbeginLeaf(); leaf; ++leaf) {
     impl_->second_distance->tree().touchLeaf(leaf->origin())->fill(none);
     impl_->second_normal->tree().touchLeaf(leaf->origin());
+    impl_->second_raise->tree().touchLeaf(leaf->origin())->fill(-1.0f);
   }
 }
 
-std::vector<VoxelBlock> BandGrid::secondPlaneBlocks() {
-  std::vector<VoxelBlock> out;
+std::vector<SecondPlaneBlock> BandGrid::secondPlaneBlocks() {
+  std::vector<SecondPlaneBlock> out;
   out.reserve(impl_->distance->tree().leafCount());
   for (auto leaf = impl_->distance->tree().beginLeaf(); leaf; ++leaf) {
-    VoxelBlock block;
+    SecondPlaneBlock block;
     block.origin = {leaf->origin().x(), leaf->origin().y(), leaf->origin().z()};
     block.distance = impl_->second_distance->tree().probeLeaf(leaf->origin())->buffer().data();
     block.normal = impl_->second_normal->tree().probeLeaf(leaf->origin())->buffer().data()->asPointer();
+    block.raise = impl_->second_raise->tree().probeLeaf(leaf->origin())->buffer().data();
     out.push_back(block);
   }
   return out;
@@ -175,11 +178,12 @@ std::vector<VoxelBlock> BandGrid::secondPlaneBlocks() {
 
 bool BandGrid::hasSecondPlanes() const { return impl_->second_distance != nullptr; }
 
-void BandGrid::readSecondPlanes(const format::VoxelBox& box, float* distance, Vec3f* normal) const {
+void BandGrid::readSecondPlanes(const format::VoxelBox& box, float* distance, Vec3f* normal, float* raise) const {
   readTree(impl_->second_distance->tree(), box, [&](std::size_t out, float d) { distance[out] = d; });
   readTree(impl_->second_normal->tree(), box, [&](std::size_t out, const openvdb::Vec3s& n) {
     normal[out] = {n.x(), n.y(), n.z()};
   });
+  readTree(impl_->second_raise->tree(), box, [&](std::size_t out, float r) { raise[out] = r; });
 }
 
 format::FarHint BandGrid::farHint(const format::VoxelBox& box) const {

@@ -35,6 +35,13 @@ struct VoxelBlock {
   }
 };
 
+/// One block's second bounds (BandGrid::secondPlaneBlocks): a VoxelBlock's plane (distance -infinity:
+/// none) plus per voxel the raise of the voxel's own plane that makes the bound a pair (negative: not
+/// a pair), as format::FieldSource::readSecondPlanes gives them.
+struct SecondPlaneBlock : VoxelBlock {
+  float* raise = nullptr; ///< kVoxels
+};
+
 /// Block coordinates: voxel index / VoxelBlock::kDim on each axis.
 using BlockKey = std::array<std::int32_t, 3>;
 
@@ -83,15 +90,14 @@ public:
   void startShading();
   bool hasShading() const override;
   void readShading(const format::VoxelBox& box, Vec3f* shading) const override;
-  /// Starts the second planes, none anywhere, over the band's blocks, for a stage to fill block by block
+  /// Starts the second bounds, none anywhere, over the band's blocks, for a stage to fill block by block
   /// (secondPlaneBlocks). The encoders write them beside the planes (the file's PLN2 section). Costs
-  /// four more floats per voxel of the band's blocks. Call after finishBand, once.
+  /// five more floats per voxel of the band's blocks. Call after finishBand, once.
   void startSecondPlanes();
-  /// The second planes' blocks, in blocks()' order: each voxel's plane as a distance at its centre
-  /// (-infinity: none) and a normal. Valid until the band's topology changes.
-  std::vector<VoxelBlock> secondPlaneBlocks();
+  /// The second bounds' blocks, in blocks()' order. Valid until the band's topology changes.
+  std::vector<SecondPlaneBlock> secondPlaneBlocks();
   bool hasSecondPlanes() const override;
-  void readSecondPlanes(const format::VoxelBox& box, float* distance, Vec3f* normal) const override;
+  void readSecondPlanes(const format::VoxelBox& box, float* distance, Vec3f* normal, float* raise) const override;
   /// Far when no block overlaps the box and every tile it covers lies on one side.
   format::FarHint farHint(const format::VoxelBox& box) const override;
 

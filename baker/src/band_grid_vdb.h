@@ -16,6 +16,7 @@ struct BandGrid::Impl {
   openvdb::Vec3SGrid::Ptr shading;         ///< null, or the mode's normals (startShading()); same topology
   openvdb::FloatGrid::Ptr second_distance; ///< null, or second planes (startSecondPlanes()), -inf: none
   openvdb::Vec3SGrid::Ptr second_normal;   ///< their normals; both on `distance`'s leaves
+  openvdb::FloatGrid::Ptr second_raise;    ///< the pairs' raises (negative: not a pair); same leaves
 };
 
 /// Our voxel (i, j, k) is OpenVDB's coordinate (i, j, k); the transform puts it at its centre,

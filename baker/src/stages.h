@@ -13,6 +13,8 @@
 //   normal_modes.cpp    surface rasterization for the paper's normal-blur and potential-gradient normals
 //   blurred_normals.cpp the paper's blur on OpenVDB grids, and each method's normals from it
 //   bake_options.cpp    checkBakeOptions: every option value, before any work
+//   conservative_planes.cpp  every band voxel's plane lowered to a bound of the distance over its cell
+//   second_planes.cpp   second bounds beside edges and creases, proven against the triangles
 //   bake.cpp            the whole pipeline with timings, progress and cancel
 //   write_file.cpp      atomic output: temporary file, fsync, rename
 //   export_vdb.cpp      the band grids written as a .vdb

@@ -32,14 +32,18 @@ struct WordNormals {
 };
 
 // PLN2 (docs/FORMAT.md §5.5), when the source has second planes: the brick's as read; one slot per top
-// entry; per block its voxel mask; the planes, block by block in voxel order.
+// entry; per block its voxel mask; the records, block by block in voxel order.
 struct SecondPlanes {
   bool present = false;
   std::vector<float> distance;
   std::vector<Vec3f> normal;
+  std::vector<float> raise;
+  std::vector<float> stored_distance; // the brick's first planes as a reader decodes them (band voxels)
+  std::vector<Vec3f> stored_normal;
+  std::vector<std::uint64_t> by_voxel; // the brick's records by local index, 0 for none
   std::vector<std::uint32_t> slots;
   std::vector<std::uint64_t> masks;
-  std::vector<std::uint32_t> words;
+  std::vector<std::uint64_t> words;
 };
 
 struct Encoder {
@@ -54,7 +58,7 @@ struct Encoder {
   EncodeStats stats;
   std::vector<float> distance; // the brick being encoded, x fastest
   std::vector<Vec3f> normal;
-  std::vector<std::uint32_t> quantized; // scratch per voxel: writeBrick's normal bits, writeSecondPlanes' words
+  std::vector<std::uint32_t> quantized; // writeBrick's scratch: octahedral normal bits per voxel
   std::vector<float> target;            // and the value each voxel's word may not exceed
   // LIFT (docs/FORMAT.md §5.2), when the source has accurate distances: the brick's accurate values,
   // and one lift per top entry and per pool word, in the orders of `top` and `pool`.
@@ -91,8 +95,10 @@ float tiltAllowance(Vec3f stored, Vec3f input, float voxel_size) {
 
 bool inBand(const Encoder& e, std::size_t v) { return std::fabs(e.distance[v]) < e.grid.band; }
 
-// Records the error of a decoded (distance, normal) against the input voxel it stands for.
+// Records the error of a decoded (distance, normal) against the input voxel it stands for, and keeps
+// the decoded plane for the voxel's second-plane pair (writeSecondPlanes).
 void measure(Encoder& e, std::size_t v, float decoded_distance, Vec3f decoded_normal) {
+  if (e.second.present) e.second.stored_distance[v] = decoded_distance, e.second.stored_normal[v] = decoded_normal;
   const float h = e.grid.voxel_size;
   e.stats.max_distance_error_voxels =
       std::max(e.stats.max_distance_error_voxels, std::fabs(decoded_distance - e.distance[v]) / h);
@@ -271,19 +277,35 @@ std::uint64_t writeBrick(Encoder& e, const BrickBox& box) {
   return packBrickEntry(pool_index, lo16, hi16);
 }
 
+// A pair's raise counts from the voxel's first plane as read; the reader adds it to the stored plane,
+// which may rise over the read one somewhere in the cell (a brick word rounds to the nearest code), so
+// the raise gives up that rise, and a rounding slack, down to 0. Not a pair (negative or not a number):
+// unchanged.
+float storedRaise(const Encoder& e, std::size_t v) {
+  const SecondPlanes& second = e.second;
+  if (!(second.raise[v] >= 0.0f)) return second.raise[v];
+  const float rise = second.stored_distance[v] - e.distance[v] +
+                     tiltAllowance(second.stored_normal[v], normalizeOrZero(e.normal[v]), e.grid.voxel_size) +
+                     kRoundingSlack * 4.0f * e.grid.band;
+  return std::max(0.0f, second.raise[v] - std::max(0.0f, rise));
+}
+
 // The tile's block of second planes, when any of its band voxels has one: the block's index (counted
 // from the layer's first), its mask and its planes in voxel order; kNoSecondPlanes otherwise.
 std::uint32_t writeSecondPlanes(Encoder& e, const BrickBox& box, const VoxelBox& read) {
   SecondPlanes& second = e.second;
-  e.source.readSecondPlanes(read, second.distance.data(), second.normal.data());
-  std::vector<std::uint32_t>& by_voxel = e.quantized; // the brick's words by local index, 0 for none
+  e.source.readSecondPlanes(read, second.distance.data(), second.normal.data(), second.raise.data());
+  std::vector<std::uint64_t>& by_voxel = second.by_voxel;
   std::fill(by_voxel.begin(), by_voxel.end(), 0u);
   const std::uint32_t mask = e.size - 1;
   bool any = false;
   forEachVoxel(box, [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, std::size_t v) {
     if (!inBand(e, v) || !std::isfinite(second.distance[v])) return;
-    const std::uint32_t word =
-        secondPlaneWord(normalizeOrZero(second.normal[v]), second.distance[v], e.grid.band, e.grid.voxel_size);
+    const float raise = storedRaise(e, v);
+    if (raise == 0.0f) return; // a pair the stored plane leaves nothing to raise
+    const std::uint64_t word = secondPlaneRecord(
+        secondPlaneWord(normalizeOrZero(second.normal[v]), second.distance[v], e.grid.band, e.grid.voxel_size), raise,
+        e.grid.band);
     by_voxel[((k & mask) << (2 * e.log2)) | ((j & mask) << e.log2) | (i & mask)] = word;
     any = any || hasSecondPlane(word);
   });
@@ -378,7 +400,11 @@ Encoder makeEncoder(const FieldSource& source, const BrickOptions& options, std:
   e.gradient.present = source.hasGradient();
   e.shading.present = source.hasShading();
   e.second.present = source.hasSecondPlanes();
-  if (e.second.present) e.second.distance.resize(brick_voxels), e.second.normal.resize(brick_voxels);
+  if (e.second.present) {
+    e.second.distance.resize(brick_voxels), e.second.normal.resize(brick_voxels), e.second.raise.resize(brick_voxels);
+    e.second.stored_distance.resize(brick_voxels), e.second.stored_normal.resize(brick_voxels);
+    e.second.by_voxel.resize(brick_voxels);
+  }
   for (WordNormals* words : {&e.gradient, &e.shading})
     if (words->present) words->brick.resize(brick_voxels);
   return e;
@@ -390,8 +416,8 @@ struct Layer {
   std::vector<std::uint32_t> pool;
   std::vector<std::int16_t> lift_top, lift_pool;          // empty without accurate distances
   std::vector<std::uint16_t> gradient_pool, shading_pool; // empty without those sections
-  std::vector<std::uint32_t> second_slots, second_words;  // block indices count from the layer's first
-  std::vector<std::uint64_t> second_masks;
+  std::vector<std::uint32_t> second_slots;                // block indices count from the layer's first
+  std::vector<std::uint64_t> second_masks, second_words;
   EncodeStats stats;
   std::string error;
 };
@@ -408,11 +434,12 @@ void addStats(const EncodeStats& layer, EncodeStats* total) {
   total->second_plane_blocks += layer.second_plane_blocks;
 }
 
-// The PLN2 payload (docs/FORMAT.md §5.5): header, masks, each mask word's first plane, slots, planes;
-// empty when no tile has a second plane.
+// The PLN2 payload (docs/FORMAT.md §5.5): header, masks, records, each mask word's first record, slots
+// (the 64-bit arrays first, so that every array is aligned to its type); empty when no tile has a
+// second plane.
 std::vector<std::uint8_t> packSecondPlanes(const std::vector<std::uint32_t>& slots,
                                            const std::vector<std::uint64_t>& masks,
-                                           const std::vector<std::uint32_t>& words, std::size_t mask_words) {
+                                           const std::vector<std::uint64_t>& words, std::size_t mask_words) {
   if (words.empty()) return {};
   std::vector<std::uint32_t> first(masks.size());
   std::uint32_t running = 0;
@@ -428,9 +455,9 @@ std::vector<std::uint8_t> packSecondPlanes(const std::vector<std::uint32_t>& slo
   };
   append(&header, sizeof header);
   append(masks.data(), masks.size() * sizeof(std::uint64_t));
+  append(words.data(), words.size() * sizeof(std::uint64_t));
   append(first.data(), first.size() * sizeof(std::uint32_t));
   append(slots.data(), slots.size() * sizeof(std::uint32_t));
-  append(words.data(), words.size() * sizeof(std::uint32_t));
   return out;
 }
 
@@ -441,8 +468,8 @@ EncodeResult joinLayers(const GridSection& grid, std::vector<Layer> layers, std:
   std::vector<std::uint32_t> pool;
   std::vector<std::int16_t> lift_top, lift_pool;
   std::vector<std::uint16_t> gradient_pool, shading_pool;
-  std::vector<std::uint32_t> second_slots, second_words;
-  std::vector<std::uint64_t> second_masks;
+  std::vector<std::uint32_t> second_slots;
+  std::vector<std::uint64_t> second_masks, second_words;
   const std::size_t mask_words = secondPlaneMaskWords(grid.brick_log2);
   for (Layer& layer : layers) {
     addStats(layer.stats, &result.stats);

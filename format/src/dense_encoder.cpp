@@ -68,8 +68,9 @@ std::string checkField(const DenseField& field) {
   if (!field.shading.empty() && field.shading.size() != field.grid.voxelCount())
     return "the shading array must be empty or hold one entry per voxel";
   if (field.second_distance.size() != field.second_normal.size() ||
+      field.second_distance.size() != field.second_raise.size() ||
       (!field.second_distance.empty() && field.second_distance.size() != field.grid.voxelCount()))
-    return "the second-plane arrays must both be empty or both hold one entry per voxel";
+    return "the second-plane arrays must all be empty or all hold one entry per voxel";
   VoxelBox all;
   for (int a = 0; a < 3; ++a)
     all.hi[a] = field.grid.dims[a];

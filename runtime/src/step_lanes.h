@@ -212,26 +212,31 @@ DNG_LANE_INLINE F cellExit(const GridInfo& g, float inv_h, V3 a, V3 d, F t) {
 /// cells (the first ball, then cell by cell) for lanes whose balls could not prove them.
 enum class WalkPart { kBalls, kCells };
 
-// ViewInternals::betterPlane for the lanes of `m` (the rest keep `s`): one lane at a time, the scalar
-// function itself, since second planes are read only where a cell's own plane stops or fails a walk.
-DNG_LANE_INLINE LaneSample betterPlaneLanes(const View& field, V3 p, const LaneSample& s, M m) {
+// ViewInternals::secondBound for the lanes of `m` (the rest keep `s`): one lane at a time, the scalar
+// function itself, since second bounds are read only where a cell's own plane stops or fails a walk.
+// The lanes whose bound is a pair of planes go to *out_pairs: one plane per lane is all the lanes' cell
+// steps take, so those need the scalar walk (their values bound the distance all the same).
+DNG_LANE_INLINE LaneSample secondBoundLanes(const View& field, V3 p, const LaneSample& s, M m, M* out_pairs) {
   alignas(32) float px[kWidth], py[kWidth], pz[kWidth], d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
   store(px, p.x), store(py, p.y), store(pz, p.z), store(d, s.distance);
   store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
-  unsigned in_band = 0, far_outside = 0, far_inside = 0;
+  unsigned in_band = 0, far_outside = 0, far_inside = 0, pairs = 0;
   const unsigned band_bits = bits(s.in_band);
   for (unsigned on = bits(m); on != 0; on &= on - 1) {
     const int lane = __builtin_ctz(on);
     const Sample first{d[lane],
                        {nx[lane], ny[lane], nz[lane]},
                        (band_bits >> lane) & 1u ? SampleStatus::kInBand : SampleStatus::kNoField};
-    const Sample better = ViewInternals::betterPlane(field, {px[lane], py[lane], pz[lane]}, first);
+    ViewInternals::OtherPlane other;
+    const Sample better = ViewInternals::secondBound(field, {px[lane], py[lane], pz[lane]}, first, &other);
     d[lane] = better.distance, nx[lane] = better.normal.x, ny[lane] = better.normal.y, nz[lane] = better.normal.z;
+    pairs |= unsigned(other.present) << lane;
     in_band |= unsigned(better.status == SampleStatus::kInBand) << lane;
     far_outside |= unsigned(better.status == SampleStatus::kFarOutside) << lane;
     far_inside |= unsigned(better.status == SampleStatus::kFarInside) << lane;
   }
-  const M on = m & ~(s.no_field); // betterPlane answers in-band samples only; the rest keep theirs
+  const M on = m & ~(s.no_field); // secondBound answers in-band samples only; the rest keep theirs
+  *out_pairs = on & laneMask(pairs);
   LaneSample out = s;
   out.distance = select(on, load(d), s.distance);
   out.normal = select(on, V3{load(nx), load(ny), load(nz)}, s.normal);
@@ -288,7 +293,8 @@ DNG_LANE_INLINE M endProven(const View& field, V3 end, const LaneSample& e, M m,
   M proven = m & (e.far_outside | e.no_field | (e.in_band & (e.distance >= proof)));
   const M second = andNot(m & e.in_band, proven);
   if (ViewInternals::hasSecondPlanesFast(field) && any(second)) {
-    const LaneSample better = betterPlaneLanes(field, end, e, second);
+    M pairs;
+    const LaneSample better = secondBoundLanes(field, end, e, second, &pairs);
     proven = proven | (second & (better.far_outside | (better.distance >= proof)));
   }
   return proven;
@@ -350,11 +356,13 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
     t = select(no_field, t + nudge, t);
     const M live = andNot(active, no_field);
     CellLanes c = planCellLanes(g, inv_h, a, delta, t, t_end, len, here, live, reach, margin, proof, roomy);
-    // Where the cell's plane stops the walk or proves nothing, its second plane may read higher.
+    // Where the cell's plane stops the walk or proves nothing, its second bound may read higher. A pair
+    // of planes leaves its lane stopped or unproven here, for the scalar walk.
     const M retry = (c.stop | c.nothing(live)) & here.in_band;
     if (second_planes && any(retry)) {
-      const LaneSample better = betterPlaneLanes(field, p, here, retry);
-      const M upgraded = retry & (better.distance > here.distance);
+      M pairs;
+      const LaneSample better = secondBoundLanes(field, p, here, retry, &pairs);
+      const M upgraded = andNot(retry & (better.distance > here.distance), pairs);
       if (any(upgraded))
         c = merge(upgraded,
                   planCellLanes(g, inv_h, a, delta, t, t_end, len, better, upgraded, reach, margin, proof, roomy), c);

@@ -26,15 +26,20 @@ struct ViewInternals {
     Vec3f unused;
     return v.planeSample(p, out_shading != nullptr ? out_shading : &unused);
   }
-  /// The walk's second look at p (docs/FORMAT.md §5.5): `first`, planeSample(p)'s answer, unless p's
-  /// voxel has a second plane (PLN2) that reads higher at p; then that plane's sample, its distance
-  /// refined at p as the first's is and its normal, with the status its distance gives.
-  static Sample betterPlane(const View& v, Vec3f p, const Sample& first) { return v.betterPlane(p, first); }
-  /// The PLN2 word of voxel `local` (brick order) of tile `tile`, or 0 (no plane).
-  static std::uint32_t secondPlaneWord(const View& v, std::size_t tile, std::uint32_t local) {
-    return v.secondPlaneWord(tile, local);
+  /// The walk's second look at p (docs/FORMAT.md §5.5): `first` (planeSample(p)'s answer, in band)
+  /// unless p's voxel has a second bound (PLN2) that reads higher at p. A plane alone: that plane's
+  /// sample, its distance refined at p as the first's is, its normal and the status its distance gives.
+  /// A pair: the smaller of the first plane raised and the second plane, with the smaller one's
+  /// normal, and in *out_other the other plane (its distance at p and normal), which stays above it.
+  struct OtherPlane {
+    bool present = false;
+    float distance = 0.0f;
+    Vec3f normal;
+  };
+  static Sample secondBound(const View& v, Vec3f p, const Sample& first, OtherPlane* out_other) {
+    *out_other = OtherPlane{};
+    return v.secondBound(p, first, &out_other->present, &out_other->distance, &out_other->normal);
   }
-  static float secondStep(const View& v) { return v.second_step_; }
   static bool hasSecondPlanesFast(const View& v) { return v.second_slots_ != nullptr; }
 };
 

@@ -342,10 +342,10 @@ Status ViewBuilder::checkWordNormals(const Found& section, const char* rule, boo
 }
 
 // V22 (1.3): the optional PLN2 section, bricked files only: its header, then whole arrays of masks,
-// first indices and slots, then exactly the planes the masks count. Each slot is kNoSecondPlanes or a
-// block, only plane and brick tiles (the ones with band voxels) have blocks, and each mask word's first
-// index is the count of the planes before it, so every plane index a lookup forms is in range. Every
-// word is a valid plane or none.
+// records, first indices and slots, with exactly the records the masks count. Each slot is
+// kNoSecondPlanes or a block, only plane and brick tiles (the ones with band voxels) have blocks, and each
+// mask word's first index is the count of the records before it, so every record index a lookup forms
+// is in range. Every record is a valid bound or none (its reserved bits are ignored).
 Status ViewBuilder::checkSecondPlanes() {
   if (!second_section_.present) return Status::kOk;
   if (grid_.encoding != fmt::Encoding::kBricked)
@@ -354,26 +354,28 @@ Status ViewBuilder::checkSecondPlanes() {
   const std::uint64_t mask_words = fmt::secondPlaneMaskWords(view_.brick_log2_);
   fmt::SecondPlanesHeader header{};
   if (size >= sizeof header) std::memcpy(&header, at(second_section_.copy.offset), sizeof header);
-  const std::uint64_t expected =
-      sizeof header + std::uint64_t(header.blocks) * mask_words * 12 + tiles * 4 + std::uint64_t(header.planes) * 4;
+  const std::uint64_t masks_total = std::uint64_t(header.blocks) * mask_words;
+  const std::uint64_t expected = sizeof header + masks_total * 12 + std::uint64_t(header.planes) * 8 + tiles * 4;
   if (size < sizeof header || size != expected)
     return fail(Status::kBadPayloadSize, "V22",
-                "PLN2 has %llu bytes; %u blocks of second planes, %llu tiles and %u planes need %llu",
-                (unsigned long long)size, header.blocks, (unsigned long long)tiles, header.planes,
+                "PLN2 has %llu bytes; %u blocks of second planes, %u planes and %llu tiles need %llu",
+                (unsigned long long)size, header.blocks, header.planes, (unsigned long long)tiles,
                 (unsigned long long)expected);
   const std::uint8_t* base = at(second_section_.copy.offset) + sizeof header;
   const auto* masks = reinterpret_cast<const std::uint64_t*>(base);
-  const auto* first = reinterpret_cast<const std::uint32_t*>(masks + header.blocks * mask_words);
-  const auto* slots = first + header.blocks * mask_words;
+  const auto* records = masks + masks_total;
+  const auto* first = reinterpret_cast<const std::uint32_t*>(records + header.planes);
+  const auto* slots = first + masks_total;
   std::uint64_t running = 0;
-  for (std::uint64_t m = 0; m < header.blocks * mask_words; ++m) {
+  for (std::uint64_t m = 0; m < masks_total; ++m) {
     if (first[m] != running)
-      return fail(Status::kBadPayloadSize, "V22", "PLN2 mask word %llu starts at plane %u, %llu planes come before it",
-                  (unsigned long long)m, first[m], (unsigned long long)running);
+      return fail(Status::kBadPayloadSize, "V22",
+                  "PLN2 mask word %llu starts at record %u, %llu records come before it", (unsigned long long)m,
+                  first[m], (unsigned long long)running);
     running += fmt::bitCount(masks[m]);
   }
   if (running != header.planes)
-    return fail(Status::kBadPayloadSize, "V22", "PLN2 masks count %llu planes, the header %u",
+    return fail(Status::kBadPayloadSize, "V22", "PLN2 masks count %llu records, the header %u",
                 (unsigned long long)running, header.planes);
   for (std::uint64_t t = 0; t < tiles; ++t) {
     if (slots[t] == fmt::kNoSecondPlanes) continue;
@@ -385,12 +387,13 @@ Status ViewBuilder::checkSecondPlanes() {
       return fail(Status::kBadTileEntry, "V22", "far tile %llu has a block of second planes", (unsigned long long)t);
   }
   view_.second_masks_ = masks;
+  view_.second_records_ = records;
   view_.second_first_ = first;
   view_.second_slots_ = slots;
-  view_.second_words_ = slots + tiles;
   view_.second_mask_words_ = std::uint32_t(mask_words);
   view_.second_count_ = header.planes;
   view_.second_step_ = fmt::secondPlaneStep(grid_.band);
+  view_.second_raise_step_ = fmt::secondPlaneRaiseStep(grid_.band);
   return Status::kOk;
 }
 

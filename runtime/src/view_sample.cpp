@@ -129,39 +129,52 @@ template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearestShaded(V
   return s;
 }
 
-std::uint32_t View::secondPlaneWord(std::size_t tile, std::uint32_t local) const {
+std::uint64_t View::secondPlaneRecord(std::size_t tile, std::uint32_t local) const {
   const std::uint32_t slot = second_slots_[tile];
   if (slot == fmt::kNoSecondPlanes) return 0;
-  // The block's mask says which voxels have a plane; the planes before this one in its mask word, and
-  // the word's first plane, say where it is.
+  // The block's mask says which voxels have a record; the records before this one in its mask word, and
+  // the word's first record, say where it is.
   const std::size_t m = std::size_t(slot) * second_mask_words_ + local / 64;
   const std::uint64_t below = (std::uint64_t(1) << (local % 64)) - 1;
   const std::uint64_t mask = second_masks_[m];
   if (!((mask >> (local % 64)) & 1u)) return 0;
-  return second_words_[second_first_[m] + fmt::bitCount(mask & below)];
+  return second_records_[second_first_[m] + fmt::bitCount(mask & below)];
 }
 
-Sample View::betterPlane(Vec3f p, const Sample& first) const {
+Sample View::secondBound(Vec3f p, const Sample& first, bool* out_pair, float* out_other_distance,
+                         Vec3f* out_other_normal) const {
+  *out_pair = false;
   if (second_slots_ == nullptr || first.status != SampleStatus::kInBand) return first;
   float u[3];
   if (!toVoxelUnits(p, u)) return first;
   const auto i = std::uint32_t(u[0]);
   const auto j = std::uint32_t(u[1]);
   const auto k = std::uint32_t(u[2]);
-  const std::uint32_t word =
-      secondPlaneWord(tileOf(grid_, brick_log2_, i, j, k), std::uint32_t(offsetInBrick(brick_log2_, i, j, k)));
-  if (!fmt::hasSecondPlane(word)) return first;
+  const std::uint64_t record =
+      secondPlaneRecord(tileOf(grid_, brick_log2_, i, j, k), std::uint32_t(offsetInBrick(brick_log2_, i, j, k)));
+  if (!fmt::hasSecondPlane(record)) return first;
   // The same refinement as the first plane's (nearest), so the two compare on the same footing.
-  const Vec3f n = fmt::wordNormal(word);
+  const Vec3f n = fmt::secondPlaneNormal(record);
   const Vec3f within{u[0] - float(i) - 0.5f, u[1] - float(j) - 0.5f, u[2] - float(k) - 0.5f};
-  const float d = fmt::secondPlaneDistance(word, grid_.band, second_step_) + grid_.voxel_size * dot(n, within);
-  if (!(d > first.distance)) return first;
-  return finish(d, n);
+  const float d = fmt::secondPlaneDistance(record, grid_.band, second_step_) + grid_.voxel_size * dot(n, within);
+  if (!fmt::isSecondPlanePair(record)) return d > first.distance ? finish(d, n) : first;
+  // A pair: the smaller of the first plane raised and the second plane, answered with the smaller one's
+  // normal; the other comes back beside it.
+  const float raised = first.distance + fmt::secondPlaneRaise(record, second_raise_step_);
+  const float bound = minOf(raised, d);
+  if (!(bound > first.distance)) return first;
+  const bool second_lower = d < raised;
+  *out_pair = true;
+  *out_other_distance = second_lower ? raised : d;
+  *out_other_normal = second_lower ? first.normal : n;
+  return finish(bound, second_lower ? n : first.normal);
 }
 
 Sample View::lowerBound(Vec3f p) const {
-  Vec3f unused;
-  return betterPlane(p, planeSample(p, &unused));
+  Vec3f unused_shading, unused_normal;
+  bool unused_pair;
+  float unused_distance;
+  return secondBound(p, planeSample(p, &unused_shading), &unused_pair, &unused_distance, &unused_normal);
 }
 
 Sample View::planeSample(Vec3f p, Vec3f* out_shading) const {

@@ -169,7 +169,8 @@ float fieldBound(const View& field, float reach, Vec3f p) {
   const Sample s = planeAt(field, p);
   if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return reach;
   if (s.status == SampleStatus::kInBand && s.distance >= 0.0f) return std::min(s.distance, reach);
-  const Sample second = ViewInternals::betterPlane(field, p, s);
+  ViewInternals::OtherPlane other;
+  const Sample second = ViewInternals::secondBound(field, p, s, &other);
   if (second.status == SampleStatus::kFarOutside) return reach;
   if (second.status == SampleStatus::kInBand && second.distance >= 0.0f) return std::min(second.distance, reach);
   return neighbourBound(field, reach, p);
@@ -181,7 +182,8 @@ float fieldBound(const View& field, float reach, Vec3f p) {
 bool provable(const View& field, float reach, float proof, Vec3f p, const Sample& s) {
   if (s.status == SampleStatus::kFarOutside || s.status == SampleStatus::kNoField) return true;
   if (s.status == SampleStatus::kInBand && s.distance >= proof) return true;
-  const Sample second = ViewInternals::betterPlane(field, p, s);
+  ViewInternals::OtherPlane other;
+  const Sample second = ViewInternals::secondBound(field, p, s, &other);
   if (second.status == SampleStatus::kFarOutside || second.distance >= proof) return true;
   return neighbourBound(field, reach, p) >= proof;
 }
@@ -197,15 +199,19 @@ enum class Verdict {
 
 struct CellPlan {
   Verdict verdict;
-  float q;     // the sample's value, capped at the reach (-reach far inside)
-  float clear; // q less the margin
-  float rate;  // the plane's change along the segment, per unit t
-  float exit;  // where the segment leaves the cell
-  float hit;   // kStops: where the plane reaches the margin
+  float q;      // the sample's value, capped at the reach (-reach far inside)
+  float clear;  // q less the margin
+  float rate;   // the plane's change along the segment, per unit t
+  float exit;   // where the segment leaves the cell
+  float hit;    // kStops: where the plane reaches the margin
+  Vec3f normal; // kStops: the normal of the plane that does
 };
 
+// `s` is the cell's plane at the walk's point, or with `other` present the lower of a pair of planes
+// whose smaller one bounds the distance (a second bound beside a concave crease, docs/FORMAT.md §5.5):
+// the smaller of two planes reaches the margin where the first of them does, and rises where both do.
 CellPlan planCell(const GridInfo& g, float inv_h, Vec3f a, Vec3f d, float t, float t_end, float len, const Sample& s,
-                  float reach, float margin, float proof_level) {
+                  const ViewInternals::OtherPlane& other, float reach, float margin, float proof_level) {
   CellPlan plan{};
   plan.q = s.status == SampleStatus::kFarInside ? -reach : std::min(s.distance, reach);
   plan.clear = plan.q - margin;
@@ -213,12 +219,20 @@ CellPlan planCell(const GridInfo& g, float inv_h, Vec3f a, Vec3f d, float t, flo
   if (s.status == SampleStatus::kFarOutside) return plan.verdict = Verdict::kFar, plan;
   plan.rate = s.status == SampleStatus::kInBand ? dot(s.normal, d) : 0.0f;
   plan.exit = cellExit(g, inv_h, a, d, t);
+  plan.hit = std::numeric_limits<float>::infinity();
   if (plan.rate < 0.0f && plan.clear >= 0.0f) { // approaching: clear until the plane reaches the margin
     plan.hit = t + plan.clear / -plan.rate;
-    if (plan.hit < plan.exit && plan.hit < t_end) return plan.verdict = Verdict::kStops, plan;
+    plan.normal = s.normal;
   }
+  const float other_rate = other.present ? dot(other.normal, d) : 0.0f;
+  if (other_rate < 0.0f && plan.clear >= 0.0f) {
+    const float other_hit = t + (std::min(other.distance, reach) - margin) / -other_rate;
+    if (other_hit < plan.hit) plan.hit = other_hit, plan.normal = other.normal;
+  }
+  if (plan.hit < plan.exit && plan.hit < t_end) return plan.verdict = Verdict::kStops, plan;
   // Clear to the cell's wall: the plane stays above the margin, or rises from a proving value.
-  if (plan.clear >= 0.0f || (plan.rate >= 0.0f && plan.q >= proof_level && s.status == SampleStatus::kInBand))
+  if (plan.clear >= 0.0f ||
+      (plan.rate >= 0.0f && other_rate >= 0.0f && plan.q >= proof_level && s.status == SampleStatus::kInBand))
     return plan.verdict = Verdict::kToWall, plan;
   return plan.verdict = Verdict::kNothing, plan;
 }
@@ -276,14 +290,17 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       t += nudge;
       continue;
     }
-    CellPlan plan = planCell(g, inv_h, a, d, t, t_end, len, s, reach, margin, proof_level);
+    ViewInternals::OtherPlane other;
+    CellPlan plan = planCell(g, inv_h, a, d, t, t_end, len, s, other, reach, margin, proof_level);
     if (plan.verdict == Verdict::kStops || plan.verdict == Verdict::kNothing) {
-      // Beside an edge the voxel's plane may be the other face's, far below the truth here: its second
-      // plane, where the file has one, may read higher and prove more (docs/FORMAT.md §5.5).
-      const Sample second = ViewInternals::betterPlane(field, p, s);
+      // Beside an edge the voxel's plane may be the other face's, far below the truth here, and beside a
+      // concave crease it is lowered for the other face's sake: its second bound, where the file has
+      // one, may read higher and prove more (docs/FORMAT.md §5.5).
+      ViewInternals::OtherPlane second_other;
+      const Sample second = ViewInternals::secondBound(field, p, s, &second_other);
       if (second.distance > s.distance) {
-        s = second;
-        plan = planCell(g, inv_h, a, d, t, t_end, len, s, reach, margin, proof_level);
+        s = second, other = second_other;
+        plan = planCell(g, inv_h, a, d, t, t_end, len, s, other, reach, margin, proof_level);
       }
     }
     const float q = plan.q, rate = plan.rate;
@@ -301,7 +318,7 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       t += clear / len;
       continue;
     }
-    if (plan.verdict == Verdict::kStops) return stopAt(WalkStop::kPlane, plan.hit, s.normal);
+    if (plan.verdict == Verdict::kStops) return stopAt(WalkStop::kPlane, plan.hit, plan.normal);
     if (plan.verdict == Verdict::kToWall) {
       // The plane proves every point up to the wall; the ball may reach further.
       proof = proof_own = std::min(plan.exit - nudge, t_end);

@@ -7,8 +7,10 @@
 //   - a plane: inside one cell the field is the linear function q + n . (x - p), so the segment is
 //     clear up to where that plane reaches the margin, or to the cell's exit when it does not;
 //   - where the own cell's plane stops the walk or proves nothing (beside an edge, where it may be the
-//     other face's plane), the cell's second plane when the file has one (PLN2, docs/FORMAT.md §5.5)
-//     and it reads higher: the larger of two lower bounds is one too;
+//     other face's plane), the cell's second bound when the file has one (PLN2, docs/FORMAT.md §5.5)
+//     and it reads higher: the larger of two lower bounds is one too. The second bound is a plane, or
+//     beside a concave crease the smaller of two planes (the cell's own raised, and the other face's),
+//     which reaches the margin along the segment where the first of the two does;
 //   - where neither proves anything, the neighbouring cells' planes: the best one's value, less the
 //     distance to its cell, is a ball, and it also holds while the point slides along with a twin
 //     point in that cell (walk.cpp slideEnd).

@@ -90,13 +90,16 @@ void addUnloweredSecondPlanes(format::DenseField* field) {
   const format::GridGeometry& g = field->grid;
   field->second_distance.assign(g.voxelCount(), -std::numeric_limits<float>::infinity());
   field->second_normal.assign(g.voxelCount(), Vec3f{});
+  field->second_raise.assign(g.voxelCount(), -1.0f);
   for (std::uint32_t k = 0; k < g.dims[2]; ++k)
     for (std::uint32_t j = 0; j < g.dims[1]; ++j)
       for (std::uint32_t i = 0; i < g.dims[0]; ++i) {
         const std::size_t v = g.index(i, j, k);
         if ((i + j + k) % 3 == 0 || !(std::fabs(field->accurate[v]) < g.band)) continue;
-        field->second_distance[v] = field->accurate[v];
+        const bool pair = (i + j + k) % 3 == 2;
+        field->second_distance[v] = field->accurate[v] + (pair ? 0.25f * g.voxel_size : 0.0f);
         field->second_normal[v] = field->normal[v];
+        if (pair) field->second_raise[v] = field->accurate[v] - field->distance[v];
       }
 }
 

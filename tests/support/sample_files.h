@@ -37,9 +37,11 @@ void addTiltedShading(format::DenseField* field);
 /// loweredBoxField() with addTiltedShading, encoded as smallBrickedBox is, with metadata.
 std::vector<std::uint8_t> smallBrickedBoxShaded();
 
-/// Gives `field` (loweredBoxField or another lowered convex field) second planes: each chosen band
+/// Gives `field` (loweredBoxField or another lowered convex field) second bounds from each chosen band
 /// voxel's plane before the lowering (its accurate distance and its normal), which bounds a convex
-/// solid's distance everywhere. Chosen: the voxels where (i + j + k) % 3 != 0, so blocks are sparse.
+/// solid's distance everywhere: where (i + j + k) % 3 == 1 that plane alone; where it is 2 a pair, the
+/// voxel's own plane raised back by its lowering and that plane a quarter of a voxel higher (so the
+/// raised own plane is the smaller); none elsewhere, so blocks are sparse.
 void addUnloweredSecondPlanes(format::DenseField* field);
 /// loweredBoxField() with addUnloweredSecondPlanes, encoded as smallBrickedBox is, with metadata: a
 /// PLN2 section.

@@ -153,7 +153,7 @@ DNG_API dng_status dng_field_get_info(const dng_field* field, dng_field_info* ou
   8u /* SHAD section: queries and responses read the bake mode's normals                                               \
         beside planes that carry the distance's own (docs/FORMAT.md 5.4) */
 #define DNG_FIELD_HAS_SECOND_PLANES                                                                                    \
-  16u /* PLN2 section: second planes beside edges, which the step's walk reads                                         \
+  16u /* PLN2 section: second bounds beside edges and creases, which the step's walk reads                             \
          where a voxel's own plane proves nothing (docs/FORMAT.md 5.5) */
 /** The DNG_FIELD_* bits that hold for the field; 0 when field is NULL. Bits not defined here are 0.
  *  Thread-safe. (A function, not a dng_field_info member, so that the struct keeps its size.) */

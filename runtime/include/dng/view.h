@@ -79,8 +79,9 @@ public:
   /// Field at `p` (grid-local frame). Defined for every input, including NaN and infinities.
   Sample sample(Vec3f p, Interpolation mode = Interpolation::kNearest) const;
 
-  /// What stepParticles' walk can prove at `p`: the voxel's plane, or its second plane where the file
-  /// has one (PLN2) and it reads higher, with that plane's normal (not the shading normal). In a file
+  /// What stepParticles' walk can prove at `p`: the voxel's plane, or its second bound where the file
+  /// has one (PLN2: a second plane, or a pair of planes) and it reads higher, with the normal of the
+  /// plane that gives the value (not the shading normal). In a file
   /// with conservative planes its distance, capped at guaranteedReach(), is at most the true distance
   /// wherever it is >= 0 (docs/FORMAT.md §5.1, §5.5), and a particle the walk is to move must be at a
   /// point where it reads at least a hundredth of a voxel (docs/RUNTIME.md, "Limits"): a spawner can
@@ -119,7 +120,7 @@ public:
   /// which stepParticles' walk reads where a voxel's own plane cannot prove a particle's way clear.
   /// Queries never read them.
   bool hasSecondPlanes() const { return second_slots_ != nullptr; }
-  /// How many voxels have a second plane (0 without a PLN2 section).
+  /// How many voxels have a second bound (0 without a PLN2 section).
   std::uint32_t secondPlaneCount() const { return second_count_; }
   const TileCounts& tileCounts() const { return tiles_; }
   std::uint16_t versionMajor() const { return version_major_; }
@@ -143,8 +144,9 @@ private:
   template <format::Encoding kEncoding> Sample nearest(Vec3f p, Vec3f* out_shading) const;
   template <format::Encoding kEncoding> Sample nearestShaded(Vec3f p) const;
   Sample planeSample(Vec3f p, Vec3f* out_shading) const;
-  Sample betterPlane(Vec3f p, const Sample& first) const;
-  std::uint32_t secondPlaneWord(std::size_t tile, std::uint32_t local) const;
+  Sample secondBound(Vec3f p, const Sample& first, bool* out_pair, float* out_other_distance,
+                     Vec3f* out_other_normal) const;
+  std::uint64_t secondPlaneRecord(std::size_t tile, std::uint32_t local) const;
   template <format::Encoding kEncoding> Sample trilinear(Vec3f p) const;
   template <format::Encoding kEncoding> Sample accurate(Vec3f p) const;
   template <format::Encoding kEncoding> VoxelValue voxelValue(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
@@ -174,18 +176,19 @@ private:
   const format::DenseVoxel* dense_ = nullptr;
   const std::uint64_t* top_ = nullptr;
   const std::uint32_t* pool_ = nullptr;
-  const std::int16_t* lift_ = nullptr;          // LIFT: per voxel (dense) or per tile (bricked)
-  const std::int16_t* lift_pool_ = nullptr;     // bricked: per pool word, after the tiles' lifts
-  float lift_step_ = 0.0f;                      // format::liftStep(band)
-  const std::uint16_t* gradient_ = nullptr;     // GRAD: per voxel (dense) or per pool word (bricked)
-  const std::uint16_t* shading_ = nullptr;      // SHAD: the same
-  const std::uint32_t* second_slots_ = nullptr; // PLN2 (bricked): per tile, its block or none
-  const std::uint64_t* second_masks_ = nullptr; // PLN2: per block, which voxels have a plane
-  const std::uint32_t* second_first_ = nullptr; // PLN2: per mask word, the index of its first plane
-  const std::uint32_t* second_words_ = nullptr; // PLN2: the planes
-  std::uint32_t second_mask_words_ = 0;         // per block: format::secondPlaneMaskWords
-  std::uint32_t second_count_ = 0;              // planes in all
-  float second_step_ = 0.0f;                    // format::secondPlaneStep(band)
+  const std::int16_t* lift_ = nullptr;            // LIFT: per voxel (dense) or per tile (bricked)
+  const std::int16_t* lift_pool_ = nullptr;       // bricked: per pool word, after the tiles' lifts
+  float lift_step_ = 0.0f;                        // format::liftStep(band)
+  const std::uint16_t* gradient_ = nullptr;       // GRAD: per voxel (dense) or per pool word (bricked)
+  const std::uint16_t* shading_ = nullptr;        // SHAD: the same
+  const std::uint32_t* second_slots_ = nullptr;   // PLN2 (bricked): per tile, its block or none
+  const std::uint64_t* second_masks_ = nullptr;   // PLN2: per block, which voxels have a plane
+  const std::uint32_t* second_first_ = nullptr;   // PLN2: per mask word, the index of its first plane
+  const std::uint64_t* second_records_ = nullptr; // PLN2: the second bounds
+  std::uint32_t second_mask_words_ = 0;           // per block: format::secondPlaneMaskWords
+  std::uint32_t second_count_ = 0;                // planes in all
+  float second_step_ = 0.0f;                      // format::secondPlaneStep(band)
+  float second_raise_step_ = 0.0f;                // format::secondPlaneRaiseStep(band)
 };
 
 } // namespace dng

@@ -81,8 +81,8 @@ struct BakeOptions {
   /// for Interpolation::kAccurate queries. About a third of a bricked file; the step never reads it.
   /// (The blurred modes' SHAD section, their normals beside the distance's own, is always written.)
   bool lift = true;
-  /// Write the PLN2 section (bricked only): second planes beside edges, which let the runtime's step
-  /// prove particles outside there where one plane per voxel cannot (docs/FORMAT.md §5.5).
+  /// Write the PLN2 section (bricked only): second bounds beside edges and creases, which let the
+  /// runtime's step prove particles outside there where one plane per voxel cannot (docs/FORMAT.md §5.5).
   bool second_planes = true;
 };
 

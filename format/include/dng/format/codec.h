@@ -8,8 +8,9 @@
 //   far outside / far inside: bits 2-63 zero
 //   plane: bits 2-16 octahedral u (15 bits), bits 17-31 v (15 bits), bits 32-63 float32 d_c
 //   brick: bits 2-31 pool index, bits 32-47 lo16, bits 48-63 hi16 (distance range, see below)
-// Pool word (32 bits): bits 0-10 octahedral u, bits 11-21 v, bits 22-31 distance q10. PLN2 words have
-// the same layout with the range [-band, band] and q10 = 0 meaning "no plane".
+// Pool word (32 bits): bits 0-10 octahedral u, bits 11-21 v, bits 22-31 distance q10. PLN2 records (64
+// bits) start with such a word, over the range [-band, band] and q10 = 0 meaning "no plane", then a
+// 16-bit raise and a pair flag (bit 48).
 // Distance range: lo = -band + lo16 * (2 band / 65535), likewise hi; voxel distance
 // d = lo + q10 * (hi - lo) / 1023, where q10 = 1023 gives hi and lo16/hi16 = 65535 give +band exactly.
 #pragma once
@@ -176,21 +177,36 @@ constexpr std::uint32_t bitCount(std::uint64_t x) {
 /// Step between consecutive distance codes of PLN2 words: their range is the whole band, [-b, b].
 inline float secondPlaneStep(float band) { return 2.0f * band / float(kWordDistanceMax); }
 
-/// Whether a PLN2 word holds a plane: distance code 0 is "none" (a plane reading -band at the voxel
+/// Whether a PLN2 record holds a plane: distance code 0 is "none" (a plane reading -band at the voxel
 /// centre bounds nothing a first plane does not).
-inline bool hasSecondPlane(std::uint32_t word) { return (word >> (2 * kWordOctBits)) != 0; }
+inline bool hasSecondPlane(std::uint64_t record) { return ((record >> (2 * kWordOctBits)) & kWordDistanceMax) != 0; }
 
-/// A PLN2 word's distance at its voxel centre: -band + code * step, code 1023 giving +band exactly.
-inline float secondPlaneDistance(std::uint32_t word, float band, float step) {
-  const std::uint32_t code = word >> (2 * kWordOctBits);
+/// A PLN2 record's plane distance at its voxel centre: -band + code * step, code 1023 giving +band exactly.
+inline float secondPlaneDistance(std::uint64_t record, float band, float step) {
+  const std::uint32_t code = std::uint32_t(record >> (2 * kWordOctBits)) & kWordDistanceMax;
   return code == kWordDistanceMax ? band : -band + float(code) * step;
 }
 
-/// The PLN2 word of a plane with normal `normal` (unit) reading `distance` at the voxel centre: the
-/// normal quantized as pool words quantize theirs (wordNormal decodes it), the distance rounded down
-/// after lowering it by what the quantized normal's tilt can add over the cell, so the stored plane
-/// never rises above the given one (docs/FORMAT.md §5.5). A distance too low for any code (or not a
-/// number) gives the word of no plane.
+/// A PLN2 record's plane normal (wordNormal of its low 32 bits).
+inline Vec3f secondPlaneNormal(std::uint64_t record) {
+  constexpr std::uint32_t mask = (1u << kWordOctBits) - 1;
+  return octDecode(std::uint32_t(record) & mask, std::uint32_t(record >> kWordOctBits) & mask, kWordOctBits);
+}
+
+/// PLN2 record bit 48: the bound is a pair, the smaller of the voxel's own plane raised by the record's
+/// raise and the record's plane (beside a concave crease), instead of the record's plane alone.
+inline constexpr std::uint64_t kSecondPlanePair = std::uint64_t(1) << 48;
+inline bool isSecondPlanePair(std::uint64_t record) { return (record & kSecondPlanePair) != 0; }
+
+/// Step of a pair's 16-bit raise code (bits 32-47): up to the band in 65,535 steps.
+inline float secondPlaneRaiseStep(float band) { return band / 65535.0f; }
+inline float secondPlaneRaise(std::uint64_t record, float step) { return float((record >> 32) & 0xFFFFu) * step; }
+
+/// The plane part (bits 0-31) of a PLN2 record: a plane with normal `normal` (unit) reading `distance`
+/// at the voxel centre, the normal quantized as pool words quantize theirs (secondPlaneNormal decodes
+/// it), the distance rounded down after lowering it by what the quantized normal's tilt can add over
+/// the cell, so the stored plane never rises above the given one (docs/FORMAT.md §5.5). A distance too
+/// low for any code (or not a number) gives 0: no plane.
 inline std::uint32_t secondPlaneWord(Vec3f normal, float distance, float band, float voxel_size) {
   std::uint32_t qu = 0, qv = 0;
   octEncode(normal, kWordOctBits, &qu, &qv);
@@ -205,6 +221,15 @@ inline std::uint32_t secondPlaneWord(Vec3f normal, float distance, float band, f
   while (code > 1 && secondPlaneDistance(word(code), band, step) > target)
     --code;
   return secondPlaneDistance(word(code), band, step) > target ? 0 : word(code);
+}
+
+/// A PLN2 record: the plane alone (`raise` not a number or negative), or a pair with the voxel's own
+/// plane raised by `raise` (rounded down to a code, so the pair never rises above the given one).
+inline std::uint64_t secondPlaneRecord(std::uint32_t plane_word, float raise, float band) {
+  if (plane_word == 0 || !(raise >= 0.0f)) return plane_word;
+  const float code = std::floor(raise / secondPlaneRaiseStep(band));
+  const auto r = std::uint64_t(code > 65535.0f ? 65535.0f : code);
+  return std::uint64_t(plane_word) | r << 32 | kSecondPlanePair;
 }
 
 /// Step between consecutive 10-bit distance codes of a brick whose range is [lo, hi].

@@ -48,12 +48,12 @@ struct DenseField {
   /// where unknown) when `normal` holds the distance's own gradient, the plane the runtime's walk
   /// trusts. When present the writers add a SHAD section; queries and responses read these normals.
   std::vector<Vec3f> shading;
-  /// Optional: empty, or one entry per voxel in both: a second plane that bounds the true distance from
-  /// below over the voxel's cell (its distance at the voxel centre and its unit normal), or a distance
-  /// of -infinity where the voxel has none. When present the bricked writer adds a PLN2 section; the
-  /// dense writer has nowhere to put them and leaves them out.
+  /// Optional: empty, or one entry per voxel in all three: a second bound (FieldSource::readSecondPlanes
+  /// says what the three mean). When present the bricked writer adds a PLN2 section; the dense writer
+  /// has nowhere to put them and leaves them out.
   std::vector<float> second_distance;
   std::vector<Vec3f> second_normal;
+  std::vector<float> second_raise;
 
   /// Sizes both arrays for `geometry`, far outside (+band) with zero normals.
   void reset(const GridGeometry& geometry) {
@@ -65,6 +65,7 @@ struct DenseField {
     shading.clear();
     second_distance.clear();
     second_normal.clear();
+    second_raise.clear();
   }
 };
 

@@ -63,14 +63,17 @@ public:
   /// True when readSecondPlanes() has values: the bricked encoder then writes a PLN2 section
   /// (docs/FORMAT.md §5.5).
   virtual bool hasSecondPlanes() const { return false; }
-  /// Writes box.count() second planes, x fastest: each voxel's distance at its centre and unit normal,
-  /// a plane that bounds the true distance from below over the voxel's cell as read()'s does, or a
-  /// distance of -infinity where the voxel has none. Called only when hasSecondPlanes(); threading as
-  /// read().
-  virtual void readSecondPlanes(const VoxelBox& box, float* distance, Vec3f* normal) const {
+  /// Writes box.count() second bounds, x fastest (docs/FORMAT.md §5.5): each voxel's second plane, its
+  /// distance at the voxel centre and unit normal (distance -infinity where the voxel has none), and
+  /// `raise`: not a number (or negative) where the plane alone bounds the true distance from below over
+  /// the voxel's cell, as read()'s plane does; else the smaller of the two, read()'s plane raised by
+  /// `raise` and the second plane, is the bound (a pair, beside a concave crease). Called only when
+  /// hasSecondPlanes(); threading as read().
+  virtual void readSecondPlanes(const VoxelBox& box, float* distance, Vec3f* normal, float* raise) const {
     (void)box;
     (void)distance;
     (void)normal;
+    (void)raise;
   }
   /// A shortcut for empty space: kUnknown unless the source knows the whole box is far on one side.
   /// A source may always answer kUnknown; a wrong answer other than kUnknown is a bug.
@@ -96,9 +99,10 @@ public:
   bool hasShading() const override { return !field_.shading.empty(); }
   void readShading(const VoxelBox& box, Vec3f* shading) const override { copyBox(field_.shading, box, shading); }
   bool hasSecondPlanes() const override { return !field_.second_distance.empty(); }
-  void readSecondPlanes(const VoxelBox& box, float* distance, Vec3f* normal) const override {
+  void readSecondPlanes(const VoxelBox& box, float* distance, Vec3f* normal, float* raise) const override {
     copyBox(field_.second_distance, box, distance);
     copyBox(field_.second_normal, box, normal);
+    copyBox(field_.second_raise, box, raise);
   }
 
 private:

@@ -57,13 +57,13 @@ inline constexpr std::uint32_t kTagGradient = makeTag('G', 'R', 'A', 'D');
 /// per voxel (dense), in their orders, then one u16 of zero padding when the count is odd, so that
 /// readers may load the section 32 bits at a time. A reader that ignores it reads the planes' normals.
 inline constexpr std::uint32_t kTagShading = makeTag('S', 'H', 'A', 'D');
-/// Optional, since 1.3, bricked files only: a second conservative plane for the few voxels beside edges
+/// Optional, since 1.3, bricked files only: a second bound for the few voxels beside edges and creases
 /// where one plane cannot bound the distance well over the whole cell (docs/FORMAT.md §5.5), stored
-/// sparsely: SecondPlanesHeader, then per block of planes a bit mask of its tile's voxels (B^3 / 64
-/// u64 each), then per mask word the index of its first plane (u32), then one u32 slot per BTOP entry
-/// (kNoSecondPlanes, or the tile's block), then the planes (secondPlaneWord, codec.h), block by block
-/// in voxel order. Only the step's walk reads them; a reader that ignores the section proves less
-/// beside edges, never wrongly.
+/// sparsely: SecondPlanesHeader, then per block (a tile that has any) a bit mask of its voxels (B^3 / 64
+/// u64 each), then the bounds (u64 each: secondPlaneRecord, codec.h), block by block in voxel order,
+/// then per mask word the index of its first bound (u32), then one u32 slot per BTOP entry
+/// (kNoSecondPlanes, or the tile's block). Only the step's walk reads them; a reader that ignores the
+/// section proves less beside edges, never wrongly.
 inline constexpr std::uint32_t kTagSecondPlanes = makeTag('P', 'L', 'N', '2');
 
 /// File header: 128 bytes at offset 0.
@@ -125,8 +125,8 @@ struct DenseVoxel {
 
 /// The start of a PLN2 section: 8 bytes.
 struct SecondPlanesHeader {
-  std::uint32_t blocks; // 0  tiles with second planes
-  std::uint32_t planes; // 4  second planes in all
+  std::uint32_t blocks; // 0  tiles with second bounds
+  std::uint32_t planes; // 4  voxels with a second bound, in all
 };
 
 /// Kind of a brick-top entry, stored in its low two bits.

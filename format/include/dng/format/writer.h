@@ -68,7 +68,8 @@ struct EncodeStats {
   /// With a LIFT section: the largest |decoded + lift - accurate| over band voxel centres, in voxels.
   float max_lifted_error_voxels = 0.0f;
   std::uint64_t payload_bytes = 0; ///< bytes of the payload sections (excluding GRID and META)
-  /// Bricked, with second planes: the tiles given a block of them in the PLN2 section, and the planes.
+  /// Bricked, with second bounds: the tiles given a block of them in the PLN2 section, and the voxels
+  /// given one.
   std::uint64_t second_plane_blocks = 0;
   std::uint64_t second_planes = 0;
 };
