@@ -117,6 +117,18 @@ float highestOn(const Vec3f* poly, int count, Vec3f centre, const PlaneAtCentre&
   return highest;
 }
 
+// The highest `bound` reads at triangle t's corners (for a pair, the smaller of its planes' highest):
+// at least what it reads anywhere on the triangle.
+float cornerPeak(const TriangleSoup& soup, std::uint32_t t, Vec3f centre, const Bound& bound) {
+  float a = kNone, b = kNone;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3f offset = soup.vertices[soup.triangles[t][k]] - centre;
+    b = std::max(b, bound.b.at(offset));
+    if (bound.pair) a = std::max(a, bound.a.at(offset));
+  }
+  return bound.pair ? std::min(a, b) : b;
+}
+
 // The most the surface within `radius` of `centre` rises above `bound`, or 0: per triangle, the highest
 // reading over its part inside the box around the ball (for a pair, the smaller plane's: over the part
 // where A lies below B, A's highest, and B's over the rest), never more than the bound reads anywhere
@@ -125,6 +137,9 @@ float surfaceRise(const SecondPlaneMesh& mesh, Vec3f centre, const Bound& bound,
   float rise = 0.0f;
   const float top = bound.at({}) + radius;
   mesh.index->forEachTriangleNear(centre, radius, [&](std::uint32_t t) {
+    // Most triangles lie below the bound: if none of a triangle's corners reads above the rise so far,
+    // no part of it does (a plane peaks at a corner, and a pair's smaller plane below either's peak).
+    if (cornerPeak(*mesh.soup, t, centre, bound) <= rise) return;
     Vec3f poly[12];
     // Slightly larger than the ball, so rounding in the clip cannot drop a point inside it.
     const int count = clipToBox(*mesh.soup, t, centre, radius * (1.0f + 1e-5f), poly);
