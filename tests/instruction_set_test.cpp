@@ -13,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -525,6 +526,75 @@ TEST(InstructionSet, StepGivesTheScalarResultsWithManyBodiesThroughAnIndex) {
       swarm.particles[n].position[c] = swarm.particles[first].position[c] + 0.1f * unit(rng);
   }
   expectSameSteps(bodies, swarm, &index);
+}
+
+// 150 bodies of `view`'s field on a 5 x 5 x 5 lattice 8 apart (the last 25 overlap the first ones,
+// 1.5 off, so that lanes have two bodies), turned and scaled; a third static, a third moving (some fast
+// enough to sweep their grids' margins in a step), a third spinning. Every `spring_every`-th body
+// springs (the spring reads the band); the others take every rule.
+std::vector<Body> bodyLattice(const View& view, int spring_every, std::mt19937* rng) {
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  const Material spring = otherMaterials().spring;
+  std::vector<Body> bodies;
+  for (int b = 0; b < 150; ++b) {
+    Body body = makeBody(view, b % spring_every == spring_every - 1 ? spring : everyRule());
+    const int cell = b % 125;
+    Vec3f at{8.0f * float(cell % 5) - 16.0f, 8.0f * float((cell / 5) % 5) - 16.0f, 8.0f * float(cell / 25) - 16.0f};
+    if (b >= 125) at = at + Vec3f{1.5f, -1.0f, 0.5f};
+    const float q[4] = {1.0f, 0.4f * unit(*rng), 0.4f * unit(*rng), 0.4f * unit(*rng)};
+    EXPECT_EQ(body.setTransform(at, q, 0.12f + 0.02f * unit(*rng)), Status::kOk);
+    const float speed = b % 6 == 1 ? 200.0f : 40.0f;
+    const Vec3f spin{9.0f * unit(*rng), 9.0f * unit(*rng), 9.0f * unit(*rng)};
+    const Vec3f move = Vec3f{unit(*rng), unit(*rng), unit(*rng)} * speed;
+    if (b % 3 == 1) body.setVelocity(move, {0, 0, 0});
+    if (b % 3 == 2) body.setVelocity({0, 0, 0}, spin);
+    bodies.push_back(body);
+  }
+  return bodies;
+}
+
+// Places the particles near a random body each, slow: the even ones in its box, the odd ones just past
+// the face its move heads for (outside the box, where only the body's travel in the step brings them
+// near, and its surface sweeps some).
+void placeNearBodies(const std::vector<Body>& bodies, Swarm* swarm, std::mt19937* rng) {
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_int_distribution<std::size_t> pick(0, bodies.size() - 1);
+  for (std::size_t n = 0; n < swarm->particles.size(); ++n) {
+    Particle& p = swarm->particles[n];
+    const Body& near = bodies[pick(*rng)];
+    const Vec3f lo = near.boundsMin(), hi = near.boundsMax(), v = near.linearVelocity();
+    int ahead = n % 2 == 0 ? -1 : 0; // the axis of the move's largest part
+    for (int c = 1; c < 3 && ahead >= 0; ++c)
+      if (std::fabs((&v.x)[c]) > std::fabs((&v.x)[ahead])) ahead = c;
+    for (int c = 0; c < 3; ++c) {
+      const float mid = 0.5f * ((&lo.x)[c] + (&hi.x)[c]), half = 0.5f * ((&hi.x)[c] - (&lo.x)[c]);
+      const float vc = (&v.x)[c], past = (half + 0.3f * std::fabs(vc) * kDt) * (vc < 0.0f ? -1.0f : 1.0f);
+      p.position[c] = mid + (c == ahead && vc != 0.0f ? past : 0.9f * half * unit(*rng));
+      p.velocity[c] *= 0.05f;
+    }
+  }
+}
+
+// A chunk whose lanes each meet their own bodies, all of one field and one material, steps them in one
+// pass per slot, each lane with its own body's numbers gathered (slot_lanes.h); where a slot mixes
+// materials or fields the chunk goes the union way. Every seventh body springs, or all do (then slots
+// of different spring bodies, which read their own bands, are common); particles in random order.
+TEST(InstructionSet, StepGivesTheScalarResultsWhenEachLaneMeetsItsOwnBody) {
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 6.0f, 4.0f});
+  for (const int spring_every : {7, 1}) {
+    for (const bool dense : {false, true}) {
+      SCOPED_TRACE(std::string(dense ? "dense" : "bricked") + ", every " + std::to_string(spring_every));
+      Field field(dense ? box : sphere, dense);
+      std::mt19937 rng(31);
+      const std::vector<Body> bodies = bodyLattice(field.view, spring_every, &rng);
+      BodyIndex index;
+      ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+      Swarm swarm = randomSwarm(3001, 32);
+      placeNearBodies(bodies, &swarm, &rng);
+      expectSameSteps(bodies, swarm, &index);
+    }
+  }
 }
 
 // Moves over several cells of the index list the bodies of every cell they cross: groups of 8

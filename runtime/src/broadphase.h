@@ -35,6 +35,7 @@ BodyMotion motionOf(const Body& body, float dt);
 struct StepBody {
   const View* field = nullptr;
   bool dense = false;    ///< the field's encoding
+  bool still = false;    ///< no velocity (linear and angular +0) and the end pose the start's, bit for bit
   Pose start, end;       ///< the body's pose at the start and at the end of the step
   Vec3f lo, hi;          ///< Body::boundsMin, boundsMax
   Vec3f linear, angular; ///< Body::linearVelocity, angularVelocity

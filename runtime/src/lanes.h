@@ -42,6 +42,11 @@ DNG_LANE_INLINE F length(V3 a) { return sqrt(dot(a, a)); }
 DNG_LANE_INLINE V3 select(M m, V3 a, V3 b) { return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)}; }
 DNG_LANE_INLINE V3 splat(float x, float y, float z) { return {splat(x), splat(y), splat(z)}; }
 
+/// Three arrays of a register's floats, lane by lane: a V3 stored for scalar code.
+struct Lanes3 {
+  alignas(32) float x[kWidth], y[kWidth], z[kWidth];
+};
+
 } // namespace DNG_LANES_NS
 } // namespace lanes
 } // namespace dng

@@ -1,9 +1,12 @@
 // Internal: the broadphase (broadphase.h) for a chunk of lanes: the bodies its particles may meet,
-// found in the index's cells with its own box tests, one body's box against every lane at once.
+// found in the index's cells with its own box tests. Two listings: each lane's own bodies
+// (listEachLane, for the slot-by-slot step of slot_lanes.h, where neighbouring particles meet different
+// buildings), and the union over the chunk's lanes (listNear, for the union step of span_lanes.h),
+// which tests one body's box against every lane at once.
 //
 // The scalar path asks the index once per particle for its responses (the bodies whose boxes may hold
-// its position) and once for its move (those whose grown boxes may meet the move's box). A chunk lists
-// the union of those over its lanes, in increasing index, and each lane then tests every listed body
+// its position) and once for its move (those whose grown boxes may meet the move's box). The union
+// lists those over its lanes, in increasing index, and each lane then tests every listed body
 // itself with the scalar path's own tests (step_lanes.h), so a body listed for another lane changes
 // nothing for it. Every body the scalar path visits for a lane is listed: the grid enters a body in
 // every cell its grown box touches, the lanes read every cell their box touches (cellAxis does
@@ -27,6 +30,12 @@
 namespace dng {
 namespace lanes {
 namespace DNG_LANES_NS {
+
+/// The box of each lane's move from a to e.
+DNG_LANE_INLINE void moveBox(V3 a, V3 e, V3* lo, V3* hi) {
+  *lo = V3{minOf(a.x, e.x), minOf(a.y, e.y), minOf(a.z, e.z)};
+  *hi = V3{maxOf(a.x, e.x), maxOf(a.y, e.y), maxOf(a.z, e.z)};
+}
 
 /// A move's box over more cells than this sends its lane to the scalar path.
 constexpr std::uint32_t kMaxMoveCells = 8;
@@ -156,6 +165,228 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
     pending &= ~(single & bits(cell == splatI(cells[lane])));
   }
   return live;
+}
+
+/// Each lane's own bodies (the chunk's slots, slot_lanes.h): per lane, in increasing index, the bodies
+/// whose grown boxes meet its move box (the moves'), and which of them have boxes that hold its
+/// position (the responses'): what the scalar path visits for that particle alone. Slot-major: slot k
+/// holds every lane's k-th body.
+struct LaneLists {
+  static constexpr int kMax = 4; ///< a lane near more bodies goes to the scalar path
+  alignas(32) std::int32_t body[kMax][kWidth];
+  alignas(32) std::int32_t count[kWidth];
+  unsigned held[kMax]; ///< per slot, the lanes whose body there holds their position
+  unsigned on[kMax];   ///< per slot, the lanes with a body there (of those listEachLane kept)
+  int slots;           ///< the most bodies any of those lanes has
+};
+
+// The lanes' query boxes and positions, stored for scalar code.
+struct LaneQuery {
+  Lanes3 lo, hi, at;
+};
+
+// NearBodies::forEach's test for lane `lane`'s box [lo, hi], scalar: the negated rejection.
+DNG_LANE_INLINE bool meetsBox(const Box& box, const Lanes3& lo, const Lanes3& hi, int lane) {
+  return !(hi.x[lane] < box.lo.x || hi.y[lane] < box.lo.y || hi.z[lane] < box.lo.z || lo.x[lane] > box.hi.x ||
+           lo.y[lane] > box.hi.y || lo.z[lane] > box.hi.z);
+}
+
+// Adds the bodies of bodies[0, count) that lane `lane` meets to its list, in increasing index, once
+// each; false when the list is full without one.
+DNG_LANE_INLINE bool listForLane(const IndexGrid& g, const std::uint32_t* bodies, std::size_t count, const LaneQuery& q,
+                                 int lane, LaneLists* io) {
+  const unsigned bit = 1u << lane;
+  std::int32_t& n = io->count[lane];
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto b = std::int32_t(bodies[k]);
+    const BodyBoxes& boxes = g.boxes[b];
+    if (!meetsBox(boxes.box[int(BodyBox::kGrown)], q.lo, q.hi, lane)) continue;
+    int at = n;
+    while (at > 0 && io->body[at - 1][lane] > b)
+      --at;
+    if (at > 0 && io->body[at - 1][lane] == b) continue;
+    if (n == LaneLists::kMax) return false;
+    for (int j = n; j > at; --j) {
+      io->body[j][lane] = io->body[j - 1][lane];
+      io->held[j] = (io->held[j] & ~bit) | (io->held[j - 1] & bit);
+    }
+    io->body[at][lane] = b;
+    const bool held = meetsBox(boxes.box[int(BodyBox::kBounds)], q.at, q.at, lane);
+    io->held[at] = held ? io->held[at] | bit : io->held[at] & ~bit;
+    ++n;
+  }
+  return true;
+}
+
+DNG_LANE_INLINE bool listCellForLane(const IndexGrid& g, std::size_t c, const LaneQuery& q, int lane, LaneLists* io) {
+  return listForLane(g, g.cell_bodies + g.cell_start[c], g.cell_start[c + 1] - g.cell_start[c], q, lane, io);
+}
+
+// The cells a register's boxes touch: per axis the first and last, and where a box is in one cell,
+// that cell.
+struct LaneCellRange {
+  I first[3], last[3];
+  M single;
+  I cell;
+};
+
+DNG_LANE_INLINE LaneCellRange cellRange(const IndexGrid& g, V3 lo, V3 hi) {
+  LaneCellRange r;
+  const F l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+  for (int a = 0; a < 3; ++a)
+    r.first[a] = cellAxis(g, l[a], a), r.last[a] = cellAxis(g, h[a], a);
+  r.single = (r.first[0] == r.last[0]) & (r.first[1] == r.last[1]) & (r.first[2] == r.last[2]);
+  r.cell = (r.first[2] * splatI(std::int32_t(g.dims[1])) + r.first[1]) * splatI(std::int32_t(g.dims[0])) + r.first[0];
+  return r;
+}
+
+// The cells of a register's boxes per axis, stored for scalar code (LaneCells).
+DNG_LANE_INLINE void storeCells(const LaneCellRange& r, LaneCells* first, LaneCells* last) {
+  for (int a = 0; a < 3; ++a) {
+    std::memcpy(first->axis[a], &r.first[a], sizeof first->axis[a]);
+    std::memcpy(last->axis[a], &r.last[a], sizeof last->axis[a]);
+  }
+}
+
+// Lane `lane`'s bodies: the ones listed everywhere, then those of the cells its box touches (c0 to c1
+// per axis) when it is in the scene; false when they are too many cells or bodies.
+DNG_LANE_INLINE bool listLane(const IndexGrid& g, const LaneQuery& q, const LaneCells& c0, const LaneCells& c1,
+                              int lane, bool in_scene, LaneLists* io) {
+  io->count[lane] = 0;
+  if (g.everywhere_count != 0 && !listForLane(g, g.everywhere, g.everywhere_count, q, lane, io)) return false;
+  if (!in_scene) return true;
+  std::uint32_t from[3], to[3], cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    from[a] = c0.axis[a][lane], to[a] = c1.axis[a][lane];
+    cells *= to[a] - from[a] + 1;
+  }
+  if (cells > kMaxMoveCells) return false;
+  for (std::uint32_t z = from[2]; z <= to[2]; ++z)
+    for (std::uint32_t y = from[1]; y <= to[1]; ++y)
+      for (std::uint32_t x = from[0]; x <= to[0]; ++x)
+        if (!listCellForLane(g, (std::size_t(z) * g.dims[1] + y) * g.dims[0] + x, q, lane, io)) return false;
+  return true;
+}
+
+// Lists the lanes `lanes` one at a time (listLane); returns those whose lists are complete.
+DNG_LANE_INLINE unsigned listLanes(const IndexGrid& g, V3 lo, V3 hi, V3 at, const LaneCellRange& r, unsigned lanes,
+                                   unsigned scene, LaneLists* io) {
+  LaneQuery q;
+  store(q.lo.x, lo.x), store(q.lo.y, lo.y), store(q.lo.z, lo.z);
+  store(q.hi.x, hi.x), store(q.hi.y, hi.y), store(q.hi.z, hi.z);
+  store(q.at.x, at.x), store(q.at.y, at.y), store(q.at.z, at.z);
+  LaneCells c0, c1;
+  storeCells(r, &c0, &c1);
+  unsigned complete = 0;
+  for (unsigned on = lanes; on != 0; on &= on - 1) {
+    const int lane = __builtin_ctz(on);
+    if (listLane(g, q, c0, c1, lane, (scene >> lane) & 1u, io)) complete |= 1u << lane;
+  }
+  return complete;
+}
+
+// The lanes whose boxes [lo, hi] meet the scene's (the rest meet only the bodies listed everywhere).
+DNG_LANE_INLINE M inScene(const IndexGrid& g, V3 lo, V3 hi) {
+  return (hi.x >= splat(g.scene_lo.x)) & (hi.y >= splat(g.scene_lo.y)) & (hi.z >= splat(g.scene_lo.z)) &
+         (lo.x <= splat(g.scene_hi.x)) & (lo.y <= splat(g.scene_hi.y)) & (lo.z <= splat(g.scene_hi.z));
+}
+
+DNG_LANE_INLINE M notNumbers(V3 lo, V3 hi) {
+  return (lo.x != lo.x) | (lo.y != lo.y) | (lo.z != lo.z) | (hi.x != hi.x) | (hi.y != hi.y) | (hi.z != hi.z);
+}
+
+// A body's box `which` per lane, gathered (lanes off `m` read zeros).
+DNG_LANE_INLINE void gatherBox(const IndexGrid& g, I body, BodyBox which, M m, V3* out_lo, V3* out_hi) {
+  constexpr auto stride = std::int32_t(sizeof(BodyBoxes) / sizeof(float)); // a cache line each
+  static_assert(sizeof(BodyBoxes) % sizeof(float) == 0 && sizeof(Box) == 6 * sizeof(float), "boxes are floats");
+  const float* base = reinterpret_cast<const float*>(g.boxes) + 6 * int(which);
+  const I at = body * splatI(stride);
+  const float* f[6] = {base, base + 1, base + 2, base + 3, base + 4, base + 5};
+  *out_lo = {gather(f[0], at, m), gather(f[1], at, m), gather(f[2], at, m)};
+  *out_hi = {gather(f[3], at, m), gather(f[4], at, m), gather(f[5], at, m)};
+}
+
+// The lists of the lanes `listed`, each in the scene with its box in one cell (and no body listed
+// everywhere): the j-th body of every lane's cell at once, gathered and tested against its lane. Cells
+// list their bodies in increasing index, so each lane's come in order. Every other lane gets an empty
+// list. Returns the lanes whose lists overflow.
+DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, V3 lo, V3 hi, V3 at, M listed, I cell, LaneLists* out) {
+  const I start = gather(g.cell_start, cell, listed);
+  const I stop = gather(g.cell_start, cell + splatI(1), listed);
+  const F length = toFloat(stop + start * splatI(-1)); // a cell's count: small, exact as a float
+  I count = splatI(0);
+  I body[LaneLists::kMax];
+  M held[LaneLists::kMax];
+  for (int k = 0; k < LaneLists::kMax; ++k)
+    body[k] = splatI(0), held[k] = andNot(listed, listed);
+  M full = andNot(listed, listed);
+  for (int j = 0;; ++j) {
+    const M has = listed & (length > splat(float(j)));
+    if (!any(has)) break;
+    const I b = gather(g.cell_bodies, start + splatI(j), has);
+    V3 box_lo, box_hi;
+    gatherBox(g, b, BodyBox::kGrown, has, &box_lo, &box_hi);
+    const M meet = has & ~((hi.x < box_lo.x) | (hi.y < box_lo.y) | (hi.z < box_lo.z) | (lo.x > box_hi.x) |
+                           (lo.y > box_hi.y) | (lo.z > box_hi.z));
+    if (!any(meet)) continue;
+    gatherBox(g, b, BodyBox::kBounds, meet, &box_lo, &box_hi);
+    const M inside = meet & ~((at.x < box_lo.x) | (at.y < box_lo.y) | (at.z < box_lo.z) | (at.x > box_hi.x) |
+                              (at.y > box_hi.y) | (at.z > box_hi.z));
+    full = full | (meet & (count == splatI(LaneLists::kMax)));
+    for (int k = 0; k < LaneLists::kMax; ++k) {
+      const M put = meet & (count == splatI(k));
+      body[k] = select(put, b, body[k]);
+      held[k] = (put & inside) | andNot(held[k], put);
+    }
+    count = count + select(meet, splatI(1), splatI(0));
+  }
+  for (int k = 0; k < LaneLists::kMax; ++k) {
+    std::memcpy(out->body[k], &body[k], sizeof body[k]);
+    out->held[k] = bits(held[k]);
+  }
+  std::memcpy(out->count, &count, sizeof count);
+  return full;
+}
+
+/// Each live lane's bodies for the move boxes [lo, hi] and positions `at` into *out. Returns the live
+/// lanes whose lists are complete: the others (a position or move that is not a number, a move over
+/// many cells, more than LaneLists::kMax bodies) need the scalar path.
+DNG_LANE_INLINE M listEachLane(const IndexGrid& g, V3 lo, V3 hi, V3 at, M live, LaneLists* out) {
+  live = andNot(live, notNumbers(lo, hi));
+  const M in_scene = inScene(g, lo, hi);
+  const LaneCellRange r = cellRange(g, lo, hi);
+  // Lanes in one cell all at once; the rest (boxes over several cells, bodies listed everywhere) one
+  // at a time.
+  const M one_cell = g.everywhere_count == 0 ? live & in_scene & r.single : andNot(live, live);
+  live = andNot(live, listOneCellEach(g, lo, hi, at, one_cell, r.cell, out));
+  const unsigned others = bits(andNot(live, one_cell));
+  if (others != 0) live = andNot(live, laneMask(others & ~listLanes(g, lo, hi, at, r, others, bits(in_scene), out)));
+  I count;
+  std::memcpy(&count, out->count, sizeof count);
+  M at_most = count == splatI(0); // lanes with at most k bodies
+  out->slots = 0;
+  for (int k = 0; k < LaneLists::kMax; ++k) {
+    out->on[k] = bits(andNot(live, at_most));
+    out->slots += out->on[k] != 0 ? 1 : 0;
+    at_most = at_most | (count == splatI(k + 1));
+  }
+  return live;
+}
+
+/// The chunk's lists for the union path: every live lane's bodies as *moves, and those whose boxes
+/// hold a live lane's position as *responses, each in increasing index; the lanes whose bodies do not
+/// fit a NearList leave *io_live.
+DNG_LANE_INLINE void unionOfLanes(const LaneLists& lists, NearList* moves, NearList* responses, M* io_live) {
+  moves->count = responses->count = 0;
+  for (unsigned on = bits(*io_live); on != 0; on &= on - 1) {
+    const int lane = __builtin_ctz(on);
+    bool fits = true;
+    for (int k = 0; k < lists.count[lane]; ++k) {
+      fits = fits && insert(lists.body[k][lane], moves);
+      if ((lists.held[k] >> lane) & 1u) fits = fits && insert(lists.body[k][lane], responses);
+    }
+    if (!fits) *io_live = andNot(*io_live, laneMask(1u << lane));
+  }
 }
 
 /// Gives each listed body its numbers, the index's (kept there since its rebuild), its material as it

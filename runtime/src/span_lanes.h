@@ -5,7 +5,7 @@
 // Each batch translation unit includes this one.
 #pragma once
 
-#include "step_lanes.h"
+#include "slot_lanes.h"
 
 #include <algorithm>
 #include <cstring>
@@ -13,11 +13,6 @@
 namespace dng {
 namespace lanes {
 namespace DNG_LANES_NS {
-
-// Strided or packed particle arrays, lane by lane.
-struct Lanes3 {
-  alignas(32) float x[kWidth], y[kWidth], z[kWidth];
-};
 
 DNG_LANE_INLINE V3 loadLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n) {
   if (stride == sizeof(float)) return {load(x + n), load(y + n), load(z + n)};
@@ -64,19 +59,13 @@ struct ChunkBodies {
   V3 lo, hi; // the move boxes `moves` was listed for, from the velocities before the responses
 };
 
-DNG_LANE_INLINE void moveBox(V3 a, V3 e, V3* lo, V3* hi) {
-  *lo = V3{minOf(a.x, e.x), minOf(a.y, e.y), minOf(a.z, e.z)};
-  *hi = V3{maxOf(a.x, e.x), maxOf(a.y, e.y), maxOf(a.z, e.z)};
-}
-
-// The responses' bodies, and in the same cell walk the moves' for the velocities as they are (most
-// responses change none). Lanes whose bodies do not all fit leave *io_live.
-DNG_LANE_INLINE const NearList& chunkResponses(const StepBatch& batch, const LaneParticles& p, ChunkBodies* io,
+// The union path's lists (every body or the union of the lanes' lists): the responses' bodies, and
+// the moves' for the velocities as they are (most responses change none). Lanes whose bodies do not
+// all fit leave *io_live.
+DNG_LANE_INLINE const NearList& chunkResponses(const StepBatch& batch, const LaneLists* lists, ChunkBodies* io,
                                                M* io_live) {
   if (batch.index == nullptr) return *batch.all;
-  moveBox(p.position, p.position + p.velocity * splat(batch.dt), &io->lo, &io->hi);
-  io->responses.count = io->moves.count = 0;
-  *io_live = listNear(*batch.index, {io->lo, io->hi, p.position, &io->moves, &io->responses}, *io_live);
+  unionOfLanes(*lists, &io->moves, &io->responses, io_live);
   prepareListed(batch, nullptr, &io->responses);
   return io->responses;
 }
@@ -191,37 +180,91 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
   io->count = 0;
 }
 
+/// What one chunk's responses and balls leave: every lane's end and touched body, the lanes still in
+/// the lanes (live), and of those the lanes proven clear (done).
+struct ChunkStep {
+  V3 end;
+  I touch;
+  M live;
+  unsigned done;
+};
+
+// The chunk's responses and balls through the bodies of `bodies` (every body, or the union of the
+// lanes' lists `lists` through an index), for the lanes `live`.
+DNG_LANE_INLINE ChunkStep stepUnion(const StepBatch& batch, const LaneLists* lists, ChunkBodies* near, M live,
+                                    LaneParticles* io) {
+  ChunkStep out;
+  out.live = live;
+  const NearList& respond = chunkResponses(batch, lists, near, &out.live);
+  KeptLanes kept;
+  respondLanes(batch, respond, out.live, io, &out.touch, &kept);
+  out.end = io->position + io->velocity * splat(batch.dt);
+  const NearList& walk = chunkMoves(batch, io->position, out.end, near, &out.live);
+  out.done = bits(moveLanes(walk, out.live, *io, out.end, &kept, WalkPart::kBalls));
+  return out;
+}
+
+// The chunk at n after its responses and balls: the lanes proven clear move, the rest of the live ones
+// are set aside for the cells, the others go to the scalar path.
+DNG_LANE_INLINE void finishChunk(const StepBatch& batch, std::size_t n, const LaneParticles& p, const ChunkStep& c,
+                                 Deferred* deferred) {
+  const ParticleSpan& s = *batch.particles;
+  storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, c.end, c.done);
+  storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, c.done);
+  storeTouches(s, n, c.touch, c.done);
+  const unsigned later = bits(c.live) & ~c.done; // their walks need cells
+  if (later != 0) {
+    if (deferred->full()) finishDeferred(batch, deferred);
+    deferred->add(n, p.velocity, c.touch, later);
+  }
+  const unsigned rest = ((1u << kWidth) - 1) & ~bits(c.live); // lanes whose bodies the lists could not hold
+  for (int lane = 0; lane < kWidth; ++lane) {
+    if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
+  }
+}
+
+DNG_LANE_INLINE LaneParticles loadChunk(const ParticleSpan& s, std::size_t n) {
+  return {loadLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n),
+          loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
+}
+
+// Through an index: each chunk lists its lanes' bodies, and goes slot by slot where the slots share
+// fields and materials (slot_lanes.h), else the union way.
+DNG_LANE_INLINE std::size_t stepThroughIndex(const StepBatch& batch, Deferred* deferred) {
+  const ParticleSpan& s = *batch.particles;
+  ChunkBodies near; // the union way's lists
+  LaneLists lists;  // each lane's bodies
+  ChunkSlots slots; // and the chunk's slots
+  std::size_t n = 0;
+  for (; n + kWidth <= s.count; n += kWidth) {
+    LaneParticles p = loadChunk(s, n);
+    moveBox(p.position, p.position + p.velocity * splat(batch.dt), &near.lo, &near.hi);
+    const M live = listEachLane(*batch.index, near.lo, near.hi, p.position, allTrue(), &lists);
+    ChunkStep c;
+    if (makeSlots(batch, lists, live, &slots)) {
+      c.live = live;
+      c.done = bits(stepSlots(batch, slots, lists, near.lo, near.hi, &p, &c.live, &c.end, &c.touch));
+    } else {
+      c = stepUnion(batch, &lists, &near, live, &p);
+    }
+    finishChunk(batch, n, p, c, deferred);
+  }
+  return n;
+}
+
 /// stepParticles over the whole span: lanes for what balls and cells settle, the scalar path for the
 /// rest and for the tail.
 inline void stepLanes(const StepBatch& batch) {
   const ParticleSpan& s = *batch.particles;
-  const F dt = splat(batch.dt);
-  const unsigned every_lane = (1u << kWidth) - 1;
-  ChunkBodies near; // the broadphase's lists, refilled per chunk
   Deferred deferred;
   std::size_t n = 0;
-  for (; n + kWidth <= s.count; n += kWidth) {
-    LaneParticles p{loadLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n),
-                    loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
-    M live = allTrue();
-    const NearList& respond = chunkResponses(batch, p, &near, &live);
-    I touch = splatI(-1);
-    KeptLanes kept;
-    respondLanes(batch, respond, live, &p, &touch, &kept);
-    const V3 end = p.position + p.velocity * dt;
-    const NearList& walk = chunkMoves(batch, p.position, end, &near, &live);
-    const unsigned done = bits(moveLanes(walk, live, p, end, &kept, WalkPart::kBalls));
-    storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, end, done);
-    storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, done);
-    storeTouches(s, n, touch, done);
-    const unsigned later = bits(live) & ~done; // their walks need cells
-    if (later != 0) {
-      if (deferred.full()) finishDeferred(batch, &deferred);
-      deferred.add(n, p.velocity, touch, later);
-    }
-    const unsigned rest = every_lane & ~bits(live); // lanes whose bodies the lists could not hold
-    for (int lane = 0; lane < kWidth; ++lane) {
-      if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
+  if (batch.index != nullptr) {
+    n = stepThroughIndex(batch, &deferred);
+  } else {
+    ChunkBodies unused;
+    for (; n + kWidth <= s.count; n += kWidth) {
+      LaneParticles p = loadChunk(s, n);
+      finishChunk(batch, n, p, stepUnion(batch, nullptr, &unused, allTrue(), &p), &deferred);
     }
   }
   finishDeferred(batch, &deferred);

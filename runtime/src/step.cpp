@@ -32,6 +32,12 @@ namespace {
 constexpr float kMarginVoxels = 0.06f;
 int walkSamples(const Body& body) { return walkSamples(body.material()); } // step_batch.h
 
+// +0 in every component, bit for bit (a body at rest: its lanes may take splatted zeros for it).
+bool bitsZero(Vec3f v) {
+  const float zero[3] = {0.0f, 0.0f, 0.0f};
+  return std::memcmp(&v, zero, sizeof zero) == 0;
+}
+
 // Samples kept from the responses for the walk: those of the first bodies that hold the particle in
 // their boxes (rarely more than two or three); more bodies sample twice.
 constexpr std::size_t kKeptSamples = 8;
@@ -317,6 +323,7 @@ void stepInLanes(const BatchKernels& kernels, const ScalarStep& scalar, std::siz
     batch.index = &grid;
     batch.prepared = index->prepared.data();
     batch.bodies = scalar.bodies;
+    batch.gatherable = body_count <= std::size_t(INT32_MAX) / (sizeof(StepBody) / sizeof(float));
     kernels.step(batch);
     return;
   }
@@ -369,6 +376,7 @@ StepBody prepareStep(const Body& body, const BodyMotion& motion) {
   out.lo = body.boundsMin(), out.hi = body.boundsMax();
   out.linear = body.linearVelocity(), out.angular = body.angularVelocity();
   out.travel = motion.travel;
+  out.still = std::memcmp(&out.start, &out.end, sizeof(Pose)) == 0 && bitsZero(out.linear) && bitsZero(out.angular);
   out.band_world = field.grid().band * body.scale();
   out.margin = kMarginVoxels * field.grid().voxel_size;
   out.reach = field.guaranteedReach();

@@ -68,6 +68,8 @@ struct StepBatch {
   const IndexGrid* index = nullptr;
   const StepBody* prepared = nullptr;
   const Body* bodies = nullptr;
+  /// Whether the kernels may gather `prepared`'s numbers: 32-bit lane offsets reach every body's.
+  bool gatherable = false;
   void (*scalar)(const void* context, std::size_t n) = nullptr;
   const void* context = nullptr; ///< for `scalar`
 };

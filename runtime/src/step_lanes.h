@@ -9,6 +9,7 @@
 // whole, from its original state. span_lanes.h runs these kernels over a whole span.
 #pragma once
 
+#include "body_lanes.h"
 #include "dng/responses.h"
 #include "near_lanes.h"
 #include "neighbour_lanes.h"
@@ -27,42 +28,20 @@ struct LaneParticles {
   V3 position, velocity;
 };
 
-/// A pose's world -> local map (Pose::toLocal and Body::toLocal are the same expression).
-DNG_LANE_INLINE V3 toLocal(const Pose& pose, V3 world) {
-  const V3 d = world - splat(pose.t.x, pose.t.y, pose.t.z);
-  const float* r = pose.r;
-  const F s = splat(pose.inv_scale);
-  return V3{splat(r[0]) * d.x + splat(r[3]) * d.y + splat(r[6]) * d.z,
-            splat(r[1]) * d.x + splat(r[4]) * d.y + splat(r[7]) * d.z,
-            splat(r[2]) * d.x + splat(r[5]) * d.y + splat(r[8]) * d.z} *
-         s;
-}
-
-DNG_LANE_INLINE V3 rotateToWorld(const Pose& pose, V3 v) {
-  const float* r = pose.r;
-  return {splat(r[0]) * v.x + splat(r[1]) * v.y + splat(r[2]) * v.z,
-          splat(r[3]) * v.x + splat(r[4]) * v.y + splat(r[5]) * v.z,
-          splat(r[6]) * v.x + splat(r[7]) * v.y + splat(r[8]) * v.z};
-}
-
-template <bool kDense> DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active) {
-  return nearestLanes<kDense>(*b.field, local, active);
-}
-
-/// The walk's sample: the plane (ViewInternals::planeSample).
-DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active) {
-  return b.dense ? sampleBody<true>(b, local, active) : sampleBody<false>(b, local, active);
+/// The walk's sample: the plane (ViewInternals::planeSample). `Body`: StepBody or LaneBodies.
+template <class Body> DNG_LANE_INLINE LaneSample sampleBody(const Body& b, V3 local, M active) {
+  return b.dense ? nearestLanes<true>(*b.field, local, active) : nearestLanes<false>(*b.field, local, active);
 }
 
 /// The responses' sample: the plane, which the walk keeps, and the shading normal the rules read.
-DNG_LANE_INLINE LaneSample sampleBody(const StepBody& b, V3 local, M active, V3* out_shading) {
+template <class Body> DNG_LANE_INLINE LaneSample sampleBody(const Body& b, V3 local, M active, V3* out_shading) {
   return b.dense ? nearestLanes<true, true>(*b.field, local, active, out_shading)
                  : nearestLanes<false, true>(*b.field, local, active, out_shading);
 }
 
 /// dng::respond (responses.h) on lanes of relative velocity, where `contact` holds. Returns the lanes
 /// where a rule acted.
-DNG_LANE_INLINE M applyMaterial(const Material& m, M contact, F d, V3 n, float band, float dt, V3* io_v) {
+DNG_LANE_INLINE M applyMaterial(const Material& m, M contact, F d, V3 n, F band, float dt, V3* io_v) {
   const F zero = splat(0.0f), step = splat(dt);
   M acted = andNot(contact, contact); // none
   if (m.response == Response::kImpact) {
@@ -71,9 +50,9 @@ DNG_LANE_INLINE M applyMaterial(const Material& m, M contact, F d, V3 n, float b
     *io_v = select(act, *io_v - n * (splat(1.0f + m.restitution) * vn), *io_v);
     acted = acted | act;
   } else if (m.response == Response::kSpring) {
-    const float reach = m.spring_distance > 0.0f ? m.spring_distance : band;
-    const M act = contact & (d < splat(reach));
-    *io_v = select(act, *io_v + n * (splat(m.spring_stiffness) * (splat(reach) - d) * step), *io_v);
+    const F reach = m.spring_distance > 0.0f ? splat(m.spring_distance) : band;
+    const M act = contact & (d < reach);
+    *io_v = select(act, *io_v + n * (splat(m.spring_stiffness) * (reach - d) * step), *io_v);
     acted = acted | act;
   }
   if (m.drag > 0.0f) {
@@ -96,54 +75,69 @@ DNG_LANE_INLINE M applyMaterial(const Material& m, M contact, F d, V3 n, float b
   return acted;
 }
 
-/// What the move needs from the responses: per body of the response list, the start point in its
-/// frame and the sample there (valid in the lanes the body's box holds).
+/// What the move needs from a body's response: the start point in the body's frame and the sample
+/// there, valid in the lanes the body's box holds (none: valid is all false, the rest never written).
+struct KeptSample {
+  LaneSample sample;
+  V3 local;
+  M valid;
+};
+/// The responses' samples, per body of the chunk's response list.
 struct KeptLanes {
-  LaneSample sample[NearList::kCapacity];
-  V3 local[NearList::kCapacity];
-  M valid[NearList::kCapacity];
+  KeptSample body[NearList::kCapacity];
 };
 
-// The responses of the listed bodies (step.cpp respondToBody), in body order, for the lanes `live`.
-// Fills the touched body and distance, and keeps each body's sample.
+/// The body a particle's responses touched, and its distance: the nearest body that acted.
+struct TouchLanes {
+  F distance;
+  I body;
+};
+
+// step.cpp respondToBody for the lanes `live` (`listed`: the body's index when `b` is a StepBody).
+// Updates the velocities and the touch, and keeps the sample.
+template <class Body>
+DNG_LANE_INLINE void respondToBody(const Body& b, const Material& material, std::int32_t listed, float dt, M live,
+                                   LaneParticles* io, TouchLanes* io_touch, KeptSample* kept) {
+  const V3 lo = perLane(b.lo), hi = perLane(b.hi);
+  const V3 p = io->position;
+  const M in = live & (p.x >= lo.x) & (p.y >= lo.y) & (p.z >= lo.z) & (p.x <= hi.x) & (p.y <= hi.y) & (p.z <= hi.z);
+  kept->valid = in;
+  if (!any(in)) return;
+  kept->local = toLocal(b.start, p);
+  V3 shading;
+  const LaneSample s = sampleBody(b, kept->local, in, &shading);
+  kept->sample = s;
+  const M contact = in & s.in_band;
+  if (!any(contact)) return;
+  const F d = s.distance * perLane(b.start.scale);
+  const V3 n = rotateToWorld(b.start, shading);
+  const V3 surface = perLane(b.linear) + cross(perLane(b.angular), p - perLane(b.start.t));
+  V3 relative = io->velocity - surface;
+  const M acted = applyMaterial(material, contact, d, n, perLane(b.band_world), dt, &relative);
+  io->velocity = select(acted, relative + surface, io->velocity);
+  const M nearer = acted & (d < io_touch->distance);
+  io_touch->distance = select(nearer, d, io_touch->distance);
+  io_touch->body = select(nearer, bodyIndex(b, listed), io_touch->body);
+}
+
+DNG_LANE_INLINE TouchLanes noTouch() { return {splat(std::numeric_limits<float>::infinity()), splatI(-1)}; }
+
+// The responses of the listed bodies, in body order, for the lanes `live`. Fills the touched body and
+// keeps each body's sample.
 DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, M live, LaneParticles* io,
-                                  I* io_touch_body, KeptLanes* kept) {
-  F touch_distance = splat(std::numeric_limits<float>::infinity());
-  for (std::size_t k = 0; k < list.count; ++k) {
-    const StepBody& sb = *list.body[k];
-    const Vec3f lo = sb.lo, hi = sb.hi;
-    const V3 p = io->position;
-    const M in = live & (p.x >= splat(lo.x)) & (p.y >= splat(lo.y)) & (p.z >= splat(lo.z)) & (p.x <= splat(hi.x)) &
-                 (p.y <= splat(hi.y)) & (p.z <= splat(hi.z));
-    kept->valid[k] = in;
-    if (!any(in)) continue;
-    kept->local[k] = toLocal(sb.start, p);
-    V3 shading;
-    const LaneSample s = sampleBody(sb, kept->local[k], in, &shading);
-    kept->sample[k] = s;
-    const M contact = in & s.in_band;
-    if (!any(contact)) continue;
-    const F d = s.distance * splat(sb.start.scale);
-    const V3 n = rotateToWorld(sb.start, shading);
-    const Vec3f lin = sb.linear, ang = sb.angular;
-    const V3 surface = splat(lin.x, lin.y, lin.z) +
-                       cross(splat(ang.x, ang.y, ang.z), p - splat(sb.start.t.x, sb.start.t.y, sb.start.t.z));
-    V3 relative = io->velocity - surface;
-    const M acted = applyMaterial(*list.material[k], contact, d, n, sb.band_world, batch.dt, &relative);
-    io->velocity = select(acted, relative + surface, io->velocity);
-    const M nearer = acted & (d < touch_distance);
-    touch_distance = select(nearer, d, touch_distance);
-    *io_touch_body = select(nearer, splatI(list.index[k]), *io_touch_body);
-  }
+                                  I* out_touch_body, KeptLanes* kept) {
+  TouchLanes touch = noTouch();
+  for (std::size_t k = 0; k < list.count; ++k)
+    respondToBody(*list.body[k], *list.material[k], list.index[k], batch.dt, live, io, &touch, &kept->body[k]);
+  *out_touch_body = touch.body;
 }
 
 // step.cpp segmentNearBounds.
-DNG_LANE_INLINE M nearBounds(const StepBody& sb, V3 a, V3 e) {
-  const Vec3f lo = sb.lo, hi = sb.hi;
-  const float tr = sb.travel;
-  return ~((maxOf(a.x, e.x) < splat(lo.x - tr)) | (minOf(a.x, e.x) > splat(hi.x + tr)) |
-           (maxOf(a.y, e.y) < splat(lo.y - tr)) | (minOf(a.y, e.y) > splat(hi.y + tr)) |
-           (maxOf(a.z, e.z) < splat(lo.z - tr)) | (minOf(a.z, e.z) > splat(hi.z + tr)));
+template <class Body> DNG_LANE_INLINE M nearBounds(const Body& b, V3 a, V3 e) {
+  const V3 lo = perLane(b.lo), hi = perLane(b.hi);
+  const F tr = perLane(b.travel);
+  return ~((maxOf(a.x, e.x) < lo.x - tr) | (minOf(a.x, e.x) > hi.x + tr) | (maxOf(a.y, e.y) < lo.y - tr) |
+           (minOf(a.y, e.y) > hi.y + tr) | (maxOf(a.z, e.z) < lo.z - tr) | (minOf(a.z, e.z) > hi.z + tr));
 }
 
 // walk.cpp insideGrid.
@@ -190,7 +184,7 @@ DNG_LANE_INLINE LaneSample merge(M m, const LaneSample& a, const LaneSample& b) 
 
 // The walk's first sample: the start's, except in the lanes `entered` whose segment enters the grid
 // from outside, which sample where it enters (p).
-DNG_LANE_INLINE LaneSample firstSample(const StepBody& sb, V3 p, const LaneSample& start, M entered) {
+template <class Body> DNG_LANE_INLINE LaneSample firstSample(const Body& sb, V3 p, const LaneSample& start, M entered) {
   return any(entered) ? merge(entered, sampleBody(sb, p, entered), start) : start;
 }
 
@@ -306,8 +300,9 @@ DNG_LANE_INLINE M endProven(const View& field, V3 end, const LaneSample& e, M m,
 // Returns the lanes it proves clear; every other near lane needs another part or the scalar walk (a
 // stop, a slide, a neighbour bound, a clip at the grid's edge, a walk out of samples). Any subset of
 // walkSegment's cases proves only what walkSegment proves, so the parts give the scalar bits.
-DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, const LaneSample* kept, M kept_valid,
-                            M near, WalkPart part) {
+template <class Body>
+DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const LaneSample* kept, M kept_valid, M near,
+                            WalkPart part) {
   const View& field = *sb.field;
   const GridInfo& g = field.grid();
   const V3 delta = toLocal(sb.end, end) - a;
@@ -383,25 +378,30 @@ DNG_LANE_INLINE M walkLanes(const StepBody& sb, int max_samples, V3 a, V3 end, c
   return clear | (active & (t >= t_end));
 }
 
+// The move's walk through body `b` for the lanes `done` that its move box meets; `kept`: the body's
+// response sample, or null. Returns the lanes of `done` that stay proven clear.
+template <class Body>
+DNG_LANE_INLINE M walkThroughBody(const Body& b, const Material& material, M done, const LaneParticles& p, V3 end,
+                                  const KeptSample* kept, WalkPart part) {
+  if (!collides(material)) return done;
+  const M near = done & nearBounds(b, p.position, end);
+  if (!any(near)) return done;
+  // The response kept the start's local position and sample where the body's box held the particle.
+  const bool has_kept = kept != nullptr && any(kept->valid);
+  const M kept_valid = has_kept ? kept->valid : andNot(done, done);
+  const V3 a = has_kept ? kept->local : toLocal(b.start, p.position);
+  return done & walkLanes(b, walkSamples(material), a, end, has_kept ? &kept->sample : nullptr, kept_valid, near, part);
+}
+
 // The move's walks through the listed bodies, for the lanes `live`: the lanes every one proves clear
 // by the walk's `part`. `kept`: the responses' samples, or null (the walks sample their starts).
 DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p, V3 end, const KeptLanes* kept,
                             WalkPart part) {
   M done = live;
   for (std::size_t k = 0; k < list.count && any(done); ++k) {
-    const StepBody& sb = *list.body[k];
-    const Material& material = *list.material[k];
-    if (!collides(material)) continue;
-    const M near = done & nearBounds(sb, p.position, end);
-    if (!any(near)) continue;
-    // The response kept the start's local position and sample where the body's box held the particle
-    // (none kept: valid is all false, and sample and local were never written).
     const std::int32_t r = list.kept[k];
-    const bool has_kept = kept != nullptr && r >= 0 && any(kept->valid[r]);
-    const M kept_valid = has_kept ? kept->valid[r] : andNot(live, live);
-    const V3 a = has_kept ? kept->local[r] : toLocal(sb.start, p.position);
-    done = done &
-           walkLanes(sb, walkSamples(material), a, end, has_kept ? &kept->sample[r] : nullptr, kept_valid, near, part);
+    done = walkThroughBody(*list.body[k], *list.material[k], done, p, end,
+                           kept != nullptr && r >= 0 ? &kept->body[r] : nullptr, part);
   }
   return done;
 }

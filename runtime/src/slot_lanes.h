@@ -1,0 +1,152 @@
+// Internal: a chunk's step slot by slot, for scenes of many bodies that share a field (a city's
+// buildings). Through an index each lane lists its own bodies (near_lanes.h listEachLane), and slot k
+// of the chunk holds each lane's k-th body. Where a slot's lanes all hold one body the kernels take that
+// body; where they hold different bodies of one field and one material, the kernels take them all at
+// once, each lane its own body's numbers (body_lanes.h LaneBodies). Particles in random order, each near
+// a different building, then cost one pass per slot instead of one pass per building.
+//
+// Each lane still visits its own bodies in increasing index with the scalar path's tests and operations,
+// so a lane gives the scalar path's bits. A chunk whose slots mix fields or materials goes the union way
+// (span_lanes.h).
+#pragma once
+
+#include "step_lanes.h"
+
+#include <cstring>
+
+namespace dng {
+namespace lanes {
+namespace DNG_LANES_NS {
+
+/// A chunk's slots: per slot, the lanes that have a body there, and the body every such lane holds
+/// (`one`), or their bodies gathered (`each`), and their material.
+struct ChunkSlots {
+  int count = 0;
+  unsigned on[LaneLists::kMax];
+  const StepBody* one[LaneLists::kMax]; ///< null: the slot's lanes hold different bodies, in each[k]
+  std::int32_t one_index[LaneLists::kMax];
+  const Material* material[LaneLists::kMax];
+  LaneBodies each[LaneLists::kMax];
+};
+
+inline bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Whether two materials act the same, bit for bit (their floats compared as bits, so -0 and +0 differ).
+inline bool sameMaterial(const Material& a, const Material& b) {
+  return a.response == b.response && a.swept == b.swept && sameBits(a.restitution, b.restitution) &&
+         sameBits(a.collision_distance, b.collision_distance) && sameBits(a.spring_stiffness, b.spring_stiffness) &&
+         sameBits(a.spring_distance, b.spring_distance) && sameBits(a.drag, b.drag) &&
+         sameBits(a.contact_distance, b.contact_distance) && sameBits(a.flow_in, b.flow_in) &&
+         sameBits(a.flow_out, b.flow_out) && sameBits(a.flow_distance, b.flow_distance);
+}
+
+// Slot k of the lanes `on` (at least one): one body, or bodies of one field and one material gathered.
+// False when they differ.
+DNG_LANE_INLINE bool makeSlot(const StepBatch& batch, const LaneLists& lists, int k, unsigned on, ChunkSlots* out) {
+  const std::int32_t first = lists.body[k][__builtin_ctz(on)];
+  const StepBody& shared = batch.prepared[first];
+  const Material& material = batch.bodies[first].material();
+  out->on[k] = on;
+  out->material[k] = &material;
+  out->one[k] = &shared;
+  out->one_index[k] = first;
+  I listed;
+  std::memcpy(&listed, lists.body[k], sizeof listed);
+  const I index = select(laneMask(on), listed, splatI(first)); // lanes without a k-th body take the first's
+  const unsigned others = on & ~bits(index == splatI(first));
+  if (others == 0) return true;
+  bool still = shared.still;
+  for (unsigned l = others; l != 0; l &= l - 1) {
+    const std::int32_t b = lists.body[k][__builtin_ctz(l)];
+    const StepBody& other = batch.prepared[b];
+    if (other.field != shared.field || !sameMaterial(batch.bodies[b].material(), material)) return false;
+    still = still && other.still;
+  }
+  out->one[k] = nullptr;
+  gatherBodies(batch.prepared, index, shared, still, &out->each[k]);
+  return true;
+}
+
+/// The chunk's slots for the live lanes' lists; false when a slot's lanes hold bodies of different
+/// fields or materials (or the call's bodies cannot be gathered): the chunk goes the union way then.
+DNG_LANE_INLINE bool makeSlots(const StepBatch& batch, const LaneLists& lists, M live, ChunkSlots* out) {
+  if (!batch.gatherable) return lists.slots == 0;
+  out->count = lists.slots;
+  const unsigned lanes = bits(live);
+  for (int k = 0; k < lists.slots; ++k) {
+    if (!makeSlot(batch, lists, k, lists.on[k] & lanes, out)) return false;
+  }
+  return true;
+}
+
+// Whether every body lane `lane` meets with its move box in `q` is one its list holds (the walks then
+// visit what the scalar path visits: the lane's own tests pass the rest by).
+DNG_LANE_INLINE bool keepsItsBodies(const IndexGrid& g, const LaneQuery& q, const LaneCells& c0, const LaneCells& c1,
+                                    int lane, bool in_scene, const LaneLists& old) {
+  LaneLists now{};
+  if (!listLane(g, q, c0, c1, lane, in_scene, &now)) return false;
+  for (int k = 0; k < now.count[lane]; ++k) {
+    bool found = false;
+    for (int j = 0; j < old.count[lane]; ++j)
+      found = found || old.body[j][lane] == now.body[k][lane];
+    if (!found) return false;
+  }
+  return true;
+}
+
+/// The lanes of `moved` (whose move boxes the responses changed, now [lo, hi]) that keep their lists.
+DNG_LANE_INLINE M relisted(const IndexGrid& g, V3 lo, V3 hi, M moved, const LaneLists& lists) {
+  moved = andNot(moved, notNumbers(lo, hi));
+  const unsigned scene = bits(inScene(g, lo, hi));
+  LaneQuery q;
+  store(q.lo.x, lo.x), store(q.lo.y, lo.y), store(q.lo.z, lo.z);
+  store(q.hi.x, hi.x), store(q.hi.y, hi.y), store(q.hi.z, hi.z);
+  q.at = q.lo; // unused: only the moves' bodies are compared
+  LaneCells c0, c1;
+  storeCells(cellRange(g, lo, hi), &c0, &c1);
+  unsigned kept = 0;
+  for (unsigned on = bits(moved); on != 0; on &= on - 1) {
+    const int lane = __builtin_ctz(on);
+    if (keepsItsBodies(g, q, c0, c1, lane, (scene >> lane) & 1u, lists)) kept |= 1u << lane;
+  }
+  return moved & laneMask(kept);
+}
+
+/// One chunk's responses and the balls of its moves, slot by slot, for the lanes *io_live (their move
+/// boxes [lo, hi], listed in `lists`). Lanes whose move boxes the responses changed and that now meet a
+/// body their lists lack leave *io_live. Returns the lanes proven clear; *out_end and *out_touch get
+/// every lane's end and touched body.
+DNG_LANE_INLINE M stepSlots(const StepBatch& batch, const ChunkSlots& slots, const LaneLists& lists, V3 lo, V3 hi,
+                            LaneParticles* io, M* io_live, V3* out_end, I* out_touch) {
+  TouchLanes touch = noTouch();
+  KeptSample kept[LaneLists::kMax];
+  for (int k = 0; k < slots.count; ++k) {
+    const M on = *io_live & laneMask(slots.on[k]);
+    if (slots.one[k] != nullptr)
+      respondToBody(*slots.one[k], *slots.material[k], slots.one_index[k], batch.dt, on, io, &touch, &kept[k]);
+    else
+      respondToBody(slots.each[k], *slots.material[k], 0, batch.dt, on, io, &touch, &kept[k]);
+  }
+  *out_touch = touch.body;
+  const V3 end = io->position + io->velocity * splat(batch.dt);
+  *out_end = end;
+  V3 now_lo, now_hi;
+  moveBox(io->position, end, &now_lo, &now_hi);
+  const M moved = *io_live & ((now_lo.x != lo.x) | (now_lo.y != lo.y) | (now_lo.z != lo.z) | (now_hi.x != hi.x) |
+                              (now_hi.y != hi.y) | (now_hi.z != hi.z));
+  if (any(moved)) *io_live = andNot(*io_live, moved) | relisted(*batch.index, now_lo, now_hi, moved, lists);
+  M done = *io_live;
+  for (int k = 0; k < slots.count && any(done); ++k) {
+    const M on = done & laneMask(slots.on[k]);
+    if (!any(on)) continue;
+    const M walked = slots.one[k] != nullptr
+                         ? walkThroughBody(*slots.one[k], *slots.material[k], on, *io, end, &kept[k], WalkPart::kBalls)
+                         : walkThroughBody(slots.each[k], *slots.material[k], on, *io, end, &kept[k], WalkPart::kBalls);
+    done = andNot(done, on) | walked;
+  }
+  return done;
+}
+
+} // namespace DNG_LANES_NS
+} // namespace lanes
+} // namespace dng
