@@ -306,9 +306,10 @@ def bodies_section(path):
           "and the bodies' data no longer in the first-level cache (drops in lattice order: %.2fx). Against the "
           "ground alone a drop among the buildings also samples a building about a quarter of the time. Without the "
           "broadphase the city costs %.0fx the ground alone. Every row runs the SIMD kernels; through the index "
-          "each chunk of lanes lists the bodies near any of its particles in one walk over the index's cells, and "
-          "every lane tests every listed body: in random order a drop near a building is usually alone there, so "
-          "the chunk samples several buildings for one drop each; in lattice order the chunk shares its building."
+          "each lane of a chunk lists its own bodies, and the chunk steps them slot by slot: in random order the "
+          "lanes' different buildings (one field, one material) run in one pass with each lane's body gathered; "
+          "in lattice order the chunk shares its building. What is left is the listing (gathers from the index's "
+          "cells) and the bodies' and cells' data fetched from beyond the first-level cache."
           % (same_work, "reached" if same_work <= 2.0 else "not reached", literal,
              "reached" if literal <= 2.0 else "not reached", rows[6][0] / rows[5][0], rows[2][0] / rows[0][0]))
 
