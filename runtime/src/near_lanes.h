@@ -169,15 +169,13 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
 
 /// Each lane's own bodies (the chunk's slots, slot_lanes.h): per lane, in increasing index, the bodies
 /// whose grown boxes meet its move box (the moves'), and which of them have boxes that hold its
-/// position (the responses'): what the scalar path visits for that particle alone. Slot-major: slot k
-/// holds every lane's k-th body.
+/// position (the responses'): what the scalar path visits for that particle alone. Lane-interleaved:
+/// body[k] holds every lane's k-th body.
 struct LaneLists {
   static constexpr int kMax = 4; ///< a lane near more bodies goes to the scalar path
   alignas(32) std::int32_t body[kMax][kWidth];
   alignas(32) std::int32_t count[kWidth];
-  unsigned held[kMax]; ///< per slot, the lanes whose body there holds their position
-  unsigned on[kMax];   ///< per slot, the lanes with a body there (of those listEachLane kept)
-  int slots;           ///< the most bodies any of those lanes has
+  unsigned held[kMax]; ///< per k, the lanes whose k-th body's box holds their position
 };
 
 // The lanes' query boxes and positions, stored for scalar code.
@@ -361,15 +359,6 @@ DNG_LANE_INLINE M listEachLane(const IndexGrid& g, V3 lo, V3 hi, V3 at, M live, 
   live = andNot(live, listOneCellEach(g, lo, hi, at, one_cell, r.cell, out));
   const unsigned others = bits(andNot(live, one_cell));
   if (others != 0) live = andNot(live, laneMask(others & ~listLanes(g, lo, hi, at, r, others, bits(in_scene), out)));
-  I count;
-  std::memcpy(&count, out->count, sizeof count);
-  M at_most = count == splatI(0); // lanes with at most k bodies
-  out->slots = 0;
-  for (int k = 0; k < LaneLists::kMax; ++k) {
-    out->on[k] = bits(andNot(live, at_most));
-    out->slots += out->on[k] != 0 ? 1 : 0;
-    at_most = at_most | (count == splatI(k + 1));
-  }
   return live;
 }
 

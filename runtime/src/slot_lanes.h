@@ -1,18 +1,22 @@
 // Internal: a chunk's step slot by slot, for scenes of many bodies that share a field (a city's
-// buildings). Through an index each lane lists its own bodies (near_lanes.h listEachLane), and slot k
-// of the chunk holds each lane's k-th body. Where a slot's lanes all hold one body the kernels take that
-// body; where they hold different bodies of one field and one material, the kernels take them all at
-// once, each lane its own body's numbers (body_lanes.h LaneBodies). Particles in random order, each near
-// a different building, then cost one pass per slot instead of one pass per building.
+// buildings). Through an index each lane lists its own bodies (near_lanes.h listEachLane), and the
+// chunk's slots take them in turn: each slot the next body of every lane whose next body is of the
+// slot's kind (one field, one material). Where a slot's lanes all hold one body the kernels take that
+// body; where they hold different bodies of its kind, the kernels take them all at once, each lane its
+// own body's numbers (body_lanes.h LaneBodies). Particles in random order, each near a different
+// building on a common ground, then cost one pass per slot (a building's, the ground's) instead of one
+// pass per building of the chunk.
 //
 // Each lane still visits its own bodies in increasing index with the scalar path's tests and operations,
-// so a lane gives the scalar path's bits. A chunk whose slots mix fields or materials goes the union way
-// (span_lanes.h).
+// so a lane gives the scalar path's bits. A chunk whose bodies need more than ChunkSlots::kMax slots goes
+// the union way (span_lanes.h).
 #pragma once
 
 #include "step_lanes.h"
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 
 namespace dng {
 namespace lanes {
@@ -21,12 +25,13 @@ namespace DNG_LANES_NS {
 /// A chunk's slots: per slot, the lanes that have a body there, and the body every such lane holds
 /// (`one`), or their bodies gathered (`each`), and their material.
 struct ChunkSlots {
+  static constexpr int kMax = 8; ///< a chunk whose lanes' bodies need more goes the union way
   int count = 0;
-  unsigned on[LaneLists::kMax];
-  const StepBody* one[LaneLists::kMax]; ///< null: the slot's lanes hold different bodies, in each[k]
-  std::int32_t one_index[LaneLists::kMax];
-  const Material* material[LaneLists::kMax];
-  LaneBodies each[LaneLists::kMax];
+  unsigned on[kMax];
+  const StepBody* one[kMax]; ///< null: the slot's lanes hold different bodies, in each[k]
+  std::int32_t one_index[kMax];
+  const Material* material[kMax];
+  LaneBodies each[kMax];
 };
 
 inline bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -40,41 +45,64 @@ inline bool sameMaterial(const Material& a, const Material& b) {
          sameBits(a.flow_out, b.flow_out) && sameBits(a.flow_distance, b.flow_distance);
 }
 
-// Slot k of the lanes `on` (at least one): one body, or bodies of one field and one material gathered.
-// False when they differ.
-DNG_LANE_INLINE bool makeSlot(const StepBatch& batch, const LaneLists& lists, int k, unsigned on, ChunkSlots* out) {
-  const std::int32_t first = lists.body[k][__builtin_ctz(on)];
-  const StepBody& shared = batch.prepared[first];
-  const Material& material = batch.bodies[first].material();
-  out->on[k] = on;
-  out->material[k] = &material;
-  out->one[k] = &shared;
-  out->one_index[k] = first;
-  I listed;
-  std::memcpy(&listed, lists.body[k], sizeof listed);
-  const I index = select(laneMask(on), listed, splatI(first)); // lanes without a k-th body take the first's
-  const unsigned others = on & ~bits(index == splatI(first));
-  if (others == 0) return true;
-  bool still = shared.still;
-  for (unsigned l = others; l != 0; l &= l - 1) {
-    const std::int32_t b = lists.body[k][__builtin_ctz(l)];
-    const StepBody& other = batch.prepared[b];
-    if (other.field != shared.field || !sameMaterial(batch.bodies[b].material(), material)) return false;
-    still = still && other.still;
-  }
-  out->one[k] = nullptr;
-  gatherBodies(batch.prepared, index, shared, still, &out->each[k]);
-  return true;
+// Whether body b steps as `shared` does but for its own numbers: the same field and material.
+DNG_LANE_INLINE bool sameKind(const StepBatch& batch, std::int32_t b, const StepBody& shared,
+                              const Material& material) {
+  return batch.prepared[b].field == shared.field && sameMaterial(batch.bodies[b].material(), material);
 }
 
-/// The chunk's slots for the live lanes' lists; false when a slot's lanes hold bodies of different
-/// fields or materials (or the call's bodies cannot be gathered): the chunk goes the union way then.
+// The next slot: the lowest of the next bodies of the lanes `left`, and the next body of every other
+// lane of `left` whose next body is of the same kind, each lane's taken from its list (its position
+// `next` advanced, and the lane out of *left once its list is done). Taking the lowest first lets a
+// body that every lane lists, such as a ground, wait until each lane reaches it, so it takes one slot.
+// One body for every lane is kept as it is; different bodies are gathered.
+DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, int* next, unsigned* left,
+                              ChunkSlots* out) {
+  const int k = out->count++;
+  std::int32_t first = std::numeric_limits<std::int32_t>::max();
+  for (unsigned l = *left; l != 0; l &= l - 1)
+    first = std::min(first, lists.body[next[__builtin_ctz(l)]][__builtin_ctz(l)]);
+  const StepBody& shared = batch.prepared[first];
+  const Material& material = batch.bodies[first].material();
+  alignas(32) std::int32_t body[kWidth];
+  unsigned on = 0, others = 0;
+  bool still = shared.still;
+  for (unsigned l = *left; l != 0; l &= l - 1) {
+    const int lane = __builtin_ctz(l);
+    const std::int32_t b = lists.body[next[lane]][lane];
+    if (b != first && !sameKind(batch, b, shared, material)) continue;
+    body[lane] = b;
+    on |= 1u << lane;
+    if (b != first) others |= 1u << lane, still = still && batch.prepared[b].still;
+    if (++next[lane] == lists.count[lane]) *left &= ~(1u << lane);
+  }
+  out->on[k] = on;
+  out->material[k] = &material;
+  out->one[k] = others == 0 ? &shared : nullptr;
+  out->one_index[k] = first;
+  if (others == 0) return;
+  for (unsigned l = ((1u << kWidth) - 1) & ~on; l != 0; l &= l - 1)
+    body[__builtin_ctz(l)] = first; // lanes without a body here read the first's numbers (and stay off)
+  I index;
+  std::memcpy(&index, body, sizeof index);
+  gatherBodies(batch.prepared, index, shared, still, &out->each[k]);
+}
+
+/// The chunk's slots for the live lanes' lists. Each lane's bodies keep their order (a lane's k-th body
+/// goes in a later slot than its (k-1)-th); a slot takes the lanes whose next bodies are of one kind,
+/// so that a ground under every lane and the buildings of some share slots as far as they can. False
+/// when the call's bodies cannot be gathered or the lists need more than ChunkSlots::kMax slots: the
+/// chunk goes the union way then.
 DNG_LANE_INLINE bool makeSlots(const StepBatch& batch, const LaneLists& lists, M live, ChunkSlots* out) {
-  if (!batch.gatherable) return lists.slots == 0;
-  out->count = lists.slots;
-  const unsigned lanes = bits(live);
-  for (int k = 0; k < lists.slots; ++k) {
-    if (!makeSlot(batch, lists, k, lists.on[k] & lanes, out)) return false;
+  out->count = 0;
+  int next[kWidth] = {};
+  unsigned left = 0;
+  for (unsigned l = bits(live); l != 0; l &= l - 1)
+    left |= lists.count[__builtin_ctz(l)] != 0 ? 1u << __builtin_ctz(l) : 0u;
+  if (left != 0 && !batch.gatherable) return false;
+  while (left != 0) {
+    if (out->count == ChunkSlots::kMax) return false;
+    nextSlot(batch, lists, next, &left, out);
   }
   return true;
 }
@@ -119,7 +147,7 @@ DNG_LANE_INLINE M relisted(const IndexGrid& g, V3 lo, V3 hi, M moved, const Lane
 DNG_LANE_INLINE M stepSlots(const StepBatch& batch, const ChunkSlots& slots, const LaneLists& lists, V3 lo, V3 hi,
                             LaneParticles* io, M* io_live, V3* out_end, I* out_touch) {
   TouchLanes touch = noTouch();
-  KeptSample kept[LaneLists::kMax];
+  KeptSample kept[ChunkSlots::kMax];
   for (int k = 0; k < slots.count; ++k) {
     const M on = *io_live & laneMask(slots.on[k]);
     if (slots.one[k] != nullptr)
