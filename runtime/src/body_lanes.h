@@ -2,7 +2,7 @@
 //   - a StepBody: one body for every lane, its numbers splatted where they are used;
 //   - LaneBodies: each lane its own body, all of one field and one material, its numbers gathered
 //     lane by lane. A chunk whose particles are near different buildings of a city (which share one
-//     field) then samples them all in one pass instead of one pass per building (span_lanes.h).
+//     field) then samples them all in one pass instead of one pass per building (slot_lanes.h).
 // perLane() reads a number of either kind as lanes, so one kernel serves both; a splatted number and
 // the same number gathered are the same bits, so a lane gives the same result either way.
 #pragma once

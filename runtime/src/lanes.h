@@ -15,6 +15,8 @@
 #include <cstdint>
 
 #define DNG_LANE_INLINE inline __attribute__((always_inline))
+// The same for a lambda handed to an inlined kernel (after its parameter list).
+#define DNG_LANE_LAMBDA __attribute__((always_inline))
 
 #if defined(DNG_LANES_AVX2) || defined(DNG_LANES_SSE41)
 #include "lanes_x86.h"

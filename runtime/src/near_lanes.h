@@ -37,6 +37,12 @@ DNG_LANE_INLINE void moveBox(V3 a, V3 e, V3* lo, V3* hi) {
   *hi = V3{maxOf(a.x, e.x), maxOf(a.y, e.y), maxOf(a.z, e.z)};
 }
 
+/// The lanes whose box [lo, hi] differs from [was_lo, was_hi] (a move the responses changed).
+DNG_LANE_INLINE M boxChanged(V3 lo, V3 hi, V3 was_lo, V3 was_hi) {
+  return (lo.x != was_lo.x) | (lo.y != was_lo.y) | (lo.z != was_lo.z) | (hi.x != was_hi.x) | (hi.y != was_hi.y) |
+         (hi.z != was_hi.z);
+}
+
 /// A move's box over more cells than this sends its lane to the scalar path.
 constexpr std::uint32_t kMaxMoveCells = 8;
 
@@ -52,13 +58,59 @@ struct LaneCells {
   alignas(32) std::uint32_t axis[3][kWidth];
 };
 
-DNG_LANE_INLINE LaneCells cellsOf(const IndexGrid& g, V3 p) {
-  LaneCells c;
-  const I x = cellAxis(g, p.x, 0), y = cellAxis(g, p.y, 1), z = cellAxis(g, p.z, 2);
-  std::memcpy(c.axis[0], &x, sizeof c.axis[0]);
-  std::memcpy(c.axis[1], &y, sizeof c.axis[1]);
-  std::memcpy(c.axis[2], &z, sizeof c.axis[2]);
-  return c;
+// The cells a register's boxes touch: per axis the first and last, and where a box is in one cell,
+// that cell.
+struct LaneCellRange {
+  I first[3], last[3];
+  M single;
+  I cell;
+};
+
+DNG_LANE_INLINE LaneCellRange cellRange(const IndexGrid& g, V3 lo, V3 hi) {
+  LaneCellRange r;
+  const F l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+  for (int a = 0; a < 3; ++a)
+    r.first[a] = cellAxis(g, l[a], a), r.last[a] = cellAxis(g, h[a], a);
+  r.single = (r.first[0] == r.last[0]) & (r.first[1] == r.last[1]) & (r.first[2] == r.last[2]);
+  r.cell = (r.first[2] * splatI(std::int32_t(g.dims[1])) + r.first[1]) * splatI(std::int32_t(g.dims[0])) + r.first[0];
+  return r;
+}
+
+// The cells of a register's boxes per axis, stored for scalar code (LaneCells).
+DNG_LANE_INLINE void storeCells(const LaneCellRange& r, LaneCells* first, LaneCells* last) {
+  for (int a = 0; a < 3; ++a) {
+    std::memcpy(first->axis[a], &r.first[a], sizeof first->axis[a]);
+    std::memcpy(last->axis[a], &r.last[a], sizeof last->axis[a]);
+  }
+}
+
+// Calls visit(c) for each cell c that lane `lane`'s box touches (the cells c0 to c1 per axis) while it
+// returns true. False when the box touches more than kMaxMoveCells cells or a visit returns false.
+template <class Visit>
+DNG_LANE_INLINE bool forEachCell(const IndexGrid& g, const LaneCells& c0, const LaneCells& c1, int lane,
+                                 Visit&& visit) {
+  std::uint32_t from[3], to[3], cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    from[a] = c0.axis[a][lane], to[a] = c1.axis[a][lane];
+    cells *= to[a] - from[a] + 1;
+  }
+  if (cells > kMaxMoveCells) return false;
+  for (std::uint32_t z = from[2]; z <= to[2]; ++z)
+    for (std::uint32_t y = from[1]; y <= to[1]; ++y)
+      for (std::uint32_t x = from[0]; x <= to[0]; ++x)
+        if (!visit((std::size_t(z) * g.dims[1] + y) * g.dims[0] + x)) return false;
+  return true;
+}
+
+// The lanes whose boxes [lo, hi] meet the scene's (the rest meet only the bodies listed everywhere).
+DNG_LANE_INLINE M inScene(const IndexGrid& g, V3 lo, V3 hi) {
+  return (hi.x >= splat(g.scene_lo.x)) & (hi.y >= splat(g.scene_lo.y)) & (hi.z >= splat(g.scene_lo.z)) &
+         (lo.x <= splat(g.scene_hi.x)) & (lo.y <= splat(g.scene_hi.y)) & (lo.z <= splat(g.scene_hi.z));
+}
+
+// The lanes whose boxes [lo, hi] have a coordinate that is not a number.
+DNG_LANE_INLINE M notNumbers(V3 lo, V3 hi) {
+  return (lo.x != lo.x) | (lo.y != lo.y) | (lo.z != lo.z) | (hi.x != hi.x) | (hi.y != hi.y) | (hi.z != hi.z);
 }
 
 // The lanes whose boxes [lo, hi] NearBodies::forEach would not drop against `box`: its negated
@@ -119,18 +171,10 @@ DNG_LANE_INLINE void listCell(const IndexGrid& g, std::size_t c, const NearQuery
 // they are too many.
 DNG_LANE_INLINE bool listLaneCells(const IndexGrid& g, const LaneCells& c0, const LaneCells& c1, int lane,
                                    const NearQuery& q, M* io_live) {
-  std::uint32_t from[3], to[3];
-  std::uint32_t cells = 1;
-  for (int a = 0; a < 3; ++a) {
-    from[a] = c0.axis[a][lane], to[a] = c1.axis[a][lane];
-    cells *= to[a] - from[a] + 1;
-  }
-  if (cells > kMaxMoveCells) return false;
-  for (std::uint32_t z = from[2]; z <= to[2]; ++z)
-    for (std::uint32_t y = from[1]; y <= to[1]; ++y)
-      for (std::uint32_t x = from[0]; x <= to[0]; ++x)
-        listCell(g, (std::size_t(z) * g.dims[1] + y) * g.dims[0] + x, q, io_live);
-  return true;
+  return forEachCell(g, c0, c1, lane, [&](std::size_t c) DNG_LANE_LAMBDA {
+    listCell(g, c, q, io_live);
+    return true;
+  });
 }
 
 /// The bodies `q` asks for, added to its lists in increasing index. Returns the live lanes every such
@@ -138,22 +182,18 @@ DNG_LANE_INLINE bool listLaneCells(const IndexGrid& g, const LaneCells& c0, cons
 DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
   const V3 lo = q.lo, hi = q.hi;
   // A lane whose position is not a number has no number in its move box either.
-  live =
-      andNot(live, (lo.x != lo.x) | (lo.y != lo.y) | (lo.z != lo.z) | (hi.x != hi.x) | (hi.y != hi.y) | (hi.z != hi.z));
+  live = andNot(live, notNumbers(lo, hi));
   listBodies(g, g.everywhere, g.everywhere_count, q, &live);
   // Boxes outside the scene's meet only the bodies listed everywhere (BodyIndex::Impl::listsFor).
-  const M in_scene = (hi.x >= splat(g.scene_lo.x)) & (hi.y >= splat(g.scene_lo.y)) & (hi.z >= splat(g.scene_lo.z)) &
-                     (lo.x <= splat(g.scene_hi.x)) & (lo.y <= splat(g.scene_hi.y)) & (lo.z <= splat(g.scene_hi.z));
-  const unsigned lanes = bits(live & in_scene);
+  const unsigned lanes = bits(live & inScene(g, lo, hi));
   if (lanes == 0) return live;
-  const LaneCells c0 = cellsOf(g, lo), c1 = cellsOf(g, hi);
+  const LaneCellRange r = cellRange(g, lo, hi);
+  LaneCells c0, c1;
+  storeCells(r, &c0, &c1);
   // Lanes whose box is in one cell, and that cell: a cell's bodies are listed once for all its lanes.
-  const I x0 = cellAxis(g, lo.x, 0), y0 = cellAxis(g, lo.y, 1), z0 = cellAxis(g, lo.z, 2);
-  const unsigned single =
-      bits((x0 == cellAxis(g, hi.x, 0)) & (y0 == cellAxis(g, hi.y, 1)) & (z0 == cellAxis(g, hi.z, 2)));
-  const I cell = (z0 * splatI(std::int32_t(g.dims[1])) + y0) * splatI(std::int32_t(g.dims[0])) + x0;
+  const unsigned single = bits(r.single);
   alignas(32) std::int32_t cells[kWidth];
-  std::memcpy(cells, &cell, sizeof cells);
+  std::memcpy(cells, &r.cell, sizeof cells);
   for (unsigned pending = lanes; pending != 0;) {
     const int lane = __builtin_ctz(pending);
     pending &= pending - 1;
@@ -162,7 +202,7 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
       continue;
     }
     listCell(g, std::size_t(std::uint32_t(cells[lane])), q, &live);
-    pending &= ~(single & bits(cell == splatI(cells[lane])));
+    pending &= ~(single & bits(r.cell == splatI(cells[lane])));
   }
   return live;
 }
@@ -182,6 +222,14 @@ struct LaneLists {
 struct LaneQuery {
   Lanes3 lo, hi, at;
 };
+
+DNG_LANE_INLINE LaneQuery storeQuery(V3 lo, V3 hi, V3 at) {
+  LaneQuery q;
+  store(q.lo.x, lo.x), store(q.lo.y, lo.y), store(q.lo.z, lo.z);
+  store(q.hi.x, hi.x), store(q.hi.y, hi.y), store(q.hi.z, hi.z);
+  store(q.at.x, at.x), store(q.at.y, at.y), store(q.at.z, at.z);
+  return q;
+}
 
 // NearBodies::forEach's test for lane `lane`'s box [lo, hi], scalar: the negated rejection.
 DNG_LANE_INLINE bool meetsBox(const Box& box, const Lanes3& lo, const Lanes3& hi, int lane) {
@@ -220,32 +268,6 @@ DNG_LANE_INLINE bool listCellForLane(const IndexGrid& g, std::size_t c, const La
   return listForLane(g, g.cell_bodies + g.cell_start[c], g.cell_start[c + 1] - g.cell_start[c], q, lane, io);
 }
 
-// The cells a register's boxes touch: per axis the first and last, and where a box is in one cell,
-// that cell.
-struct LaneCellRange {
-  I first[3], last[3];
-  M single;
-  I cell;
-};
-
-DNG_LANE_INLINE LaneCellRange cellRange(const IndexGrid& g, V3 lo, V3 hi) {
-  LaneCellRange r;
-  const F l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
-  for (int a = 0; a < 3; ++a)
-    r.first[a] = cellAxis(g, l[a], a), r.last[a] = cellAxis(g, h[a], a);
-  r.single = (r.first[0] == r.last[0]) & (r.first[1] == r.last[1]) & (r.first[2] == r.last[2]);
-  r.cell = (r.first[2] * splatI(std::int32_t(g.dims[1])) + r.first[1]) * splatI(std::int32_t(g.dims[0])) + r.first[0];
-  return r;
-}
-
-// The cells of a register's boxes per axis, stored for scalar code (LaneCells).
-DNG_LANE_INLINE void storeCells(const LaneCellRange& r, LaneCells* first, LaneCells* last) {
-  for (int a = 0; a < 3; ++a) {
-    std::memcpy(first->axis[a], &r.first[a], sizeof first->axis[a]);
-    std::memcpy(last->axis[a], &r.last[a], sizeof last->axis[a]);
-  }
-}
-
 // Lane `lane`'s bodies: the ones listed everywhere, then those of the cells its box touches (c0 to c1
 // per axis) when it is in the scene; false when they are too many cells or bodies.
 DNG_LANE_INLINE bool listLane(const IndexGrid& g, const LaneQuery& q, const LaneCells& c0, const LaneCells& c1,
@@ -253,26 +275,14 @@ DNG_LANE_INLINE bool listLane(const IndexGrid& g, const LaneQuery& q, const Lane
   io->count[lane] = 0;
   if (g.everywhere_count != 0 && !listForLane(g, g.everywhere, g.everywhere_count, q, lane, io)) return false;
   if (!in_scene) return true;
-  std::uint32_t from[3], to[3], cells = 1;
-  for (int a = 0; a < 3; ++a) {
-    from[a] = c0.axis[a][lane], to[a] = c1.axis[a][lane];
-    cells *= to[a] - from[a] + 1;
-  }
-  if (cells > kMaxMoveCells) return false;
-  for (std::uint32_t z = from[2]; z <= to[2]; ++z)
-    for (std::uint32_t y = from[1]; y <= to[1]; ++y)
-      for (std::uint32_t x = from[0]; x <= to[0]; ++x)
-        if (!listCellForLane(g, (std::size_t(z) * g.dims[1] + y) * g.dims[0] + x, q, lane, io)) return false;
-  return true;
+  return forEachCell(g, c0, c1, lane,
+                     [&](std::size_t c) DNG_LANE_LAMBDA { return listCellForLane(g, c, q, lane, io); });
 }
 
 // Lists the lanes `lanes` one at a time (listLane); returns those whose lists are complete.
 DNG_LANE_INLINE unsigned listLanes(const IndexGrid& g, V3 lo, V3 hi, V3 at, const LaneCellRange& r, unsigned lanes,
                                    unsigned scene, LaneLists* io) {
-  LaneQuery q;
-  store(q.lo.x, lo.x), store(q.lo.y, lo.y), store(q.lo.z, lo.z);
-  store(q.hi.x, hi.x), store(q.hi.y, hi.y), store(q.hi.z, hi.z);
-  store(q.at.x, at.x), store(q.at.y, at.y), store(q.at.z, at.z);
+  const LaneQuery q = storeQuery(lo, hi, at);
   LaneCells c0, c1;
   storeCells(r, &c0, &c1);
   unsigned complete = 0;
@@ -281,16 +291,6 @@ DNG_LANE_INLINE unsigned listLanes(const IndexGrid& g, V3 lo, V3 hi, V3 at, cons
     if (listLane(g, q, c0, c1, lane, (scene >> lane) & 1u, io)) complete |= 1u << lane;
   }
   return complete;
-}
-
-// The lanes whose boxes [lo, hi] meet the scene's (the rest meet only the bodies listed everywhere).
-DNG_LANE_INLINE M inScene(const IndexGrid& g, V3 lo, V3 hi) {
-  return (hi.x >= splat(g.scene_lo.x)) & (hi.y >= splat(g.scene_lo.y)) & (hi.z >= splat(g.scene_lo.z)) &
-         (lo.x <= splat(g.scene_hi.x)) & (lo.y <= splat(g.scene_hi.y)) & (lo.z <= splat(g.scene_hi.z));
-}
-
-DNG_LANE_INLINE M notNumbers(V3 lo, V3 hi) {
-  return (lo.x != lo.x) | (lo.y != lo.y) | (lo.z != lo.z) | (hi.x != hi.x) | (hi.y != hi.y) | (hi.z != hi.z);
 }
 
 // A body's box `which` per lane, gathered (lanes off `m` read zeros).

@@ -126,10 +126,7 @@ DNG_LANE_INLINE bool keepsItsBodies(const IndexGrid& g, const LaneQuery& q, cons
 DNG_LANE_INLINE M relisted(const IndexGrid& g, V3 lo, V3 hi, M moved, const LaneLists& lists) {
   moved = andNot(moved, notNumbers(lo, hi));
   const unsigned scene = bits(inScene(g, lo, hi));
-  LaneQuery q;
-  store(q.lo.x, lo.x), store(q.lo.y, lo.y), store(q.lo.z, lo.z);
-  store(q.hi.x, hi.x), store(q.hi.y, hi.y), store(q.hi.z, hi.z);
-  q.at = q.lo; // unused: only the moves' bodies are compared
+  const LaneQuery q = storeQuery(lo, hi, lo); // positions unused: only the moves' bodies are compared
   LaneCells c0, c1;
   storeCells(cellRange(g, lo, hi), &c0, &c1);
   unsigned kept = 0;
@@ -160,8 +157,7 @@ DNG_LANE_INLINE M stepSlots(const StepBatch& batch, const ChunkSlots& slots, con
   *out_end = end;
   V3 now_lo, now_hi;
   moveBox(io->position, end, &now_lo, &now_hi);
-  const M moved = *io_live & ((now_lo.x != lo.x) | (now_lo.y != lo.y) | (now_lo.z != lo.z) | (now_hi.x != hi.x) |
-                              (now_hi.y != hi.y) | (now_hi.z != hi.z));
+  const M moved = *io_live & boxChanged(now_lo, now_hi, lo, hi);
   if (any(moved)) *io_live = andNot(*io_live, moved) | relisted(*batch.index, now_lo, now_hi, moved, lists);
   M done = *io_live;
   for (int k = 0; k < slots.count && any(done); ++k) {

@@ -76,8 +76,7 @@ DNG_LANE_INLINE const NearList& chunkMoves(const StepBatch& batch, V3 start, V3 
   if (batch.index == nullptr) return *batch.all;
   V3 lo, hi;
   moveBox(start, end, &lo, &hi);
-  const M moved = *io_live & ((lo.x != io->lo.x) | (lo.y != io->lo.y) | (lo.z != io->lo.z) | (hi.x != io->hi.x) |
-                              (hi.y != io->hi.y) | (hi.z != io->hi.z));
+  const M moved = *io_live & boxChanged(lo, hi, io->lo, io->hi);
   if (any(moved))
     *io_live = andNot(*io_live, moved) | listNear(*batch.index, {lo, hi, start, &io->moves, nullptr}, moved);
   prepareListed(batch, &io->responses, &io->moves);
