@@ -7,7 +7,7 @@
 // (perf, callgrind) without the bake that table1_bench does first.
 //
 //   swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--speed V] [--swept]
-//              [--isa scalar|sse4.1|avx2|neon]
+//              [--isa scalar|sse4.1|avx2|avx512|neon]
 //
 // The swarm: points drawn uniformly in the field's box, kept where the field reads 0 (or --near V
 // voxels) to 2 voxels outside, with random velocities up to 1.5 (or --speed V) voxels per step on each
@@ -51,8 +51,7 @@ struct Options {
 };
 
 bool parseIsa(const char* name, InstructionSet* out) {
-  for (InstructionSet set :
-       {InstructionSet::kScalar, InstructionSet::kSse41, InstructionSet::kAvx2, InstructionSet::kNeon}) {
+  for (InstructionSet set : kInstructionSets) {
     if (std::strcmp(name, instructionSetName(set)) == 0) {
       *out = set;
       return true;
@@ -163,7 +162,7 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--speed V] [--swept] "
-        "[--isa scalar|sse4.1|avx2|neon]\n");
+        "[--isa scalar|sse4.1|avx2|avx512|neon]\n");
     return 1;
   }
   Diagnostic diag;

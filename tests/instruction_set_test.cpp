@@ -93,8 +93,8 @@ struct ChosenSet {
 std::vector<InstructionSet> simdSets() {
   const InstructionSet before = activeInstructionSet();
   std::vector<InstructionSet> out;
-  for (InstructionSet set : {InstructionSet::kSse41, InstructionSet::kAvx2, InstructionSet::kNeon}) {
-    if (setInstructionSet(set) == Status::kOk) out.push_back(set);
+  for (InstructionSet set : kInstructionSets) {
+    if (set != InstructionSet::kScalar && setInstructionSet(set) == Status::kOk) out.push_back(set);
   }
   setInstructionSet(before);
   return out;
@@ -147,8 +147,9 @@ std::vector<float> queryPoints(std::size_t count) {
 TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
   const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
   const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
-  // 20,015 = 16 k + 8 + 7 = 8 k + 4 + 3: pairs of registers, one register alone and a tail, at 8 and 4 lanes.
-  const std::vector<float> points = queryPoints(20015);
+  // 20,031 = 32 k + 16 + 15 = 16 k + 8 + 7 = 8 k + 4 + 3: pairs of registers, one register alone and a
+  // tail, at 16, 8 and 4 lanes.
+  const std::vector<float> points = queryPoints(20031);
   const std::size_t count = points.size() / 4;
   for (const AnalyticField* shape : {&box, &sphere}) {
     for (std::pair<bool, Extras> kind : {std::pair{false, Extras::kNone},

@@ -10,7 +10,7 @@ field="$work/field.dng"
 "$bake" -q "$mesh" -o "$field" --resolution 64 --no-lift
 reference=$("$swarm" "$field" --particles 20000 --steps 12 --isa scalar | cut -d' ' -f1)
 compared=0
-for set in sse4.1 avx2 neon; do
+for set in sse4.1 avx2 avx512 neon; do
   if out=$("$swarm" "$field" --particles 20000 --steps 12 --isa "$set" 2>/dev/null); then
     got=$(echo "$out" | cut -d' ' -f1)
     echo "$set: $got (scalar: $reference)"

@@ -11,6 +11,7 @@ namespace dng {
 #if DNG_HAVE_X86_KERNELS
 extern const BatchKernels kSse41Kernels;
 extern const BatchKernels kAvx2Kernels;
+extern const BatchKernels kAvx512Kernels;
 #endif
 #if DNG_HAVE_NEON_KERNELS
 extern const BatchKernels kNeonKernels;
@@ -24,6 +25,9 @@ bool supported(InstructionSet set) {
 #if DNG_HAVE_X86_KERNELS
   case InstructionSet::kSse41: return __builtin_cpu_supports("sse4.1");
   case InstructionSet::kAvx2: return __builtin_cpu_supports("avx2");
+  case InstructionSet::kAvx512: // the kernels' build flags; libgcc also checks that the OS saves the registers
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+           __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
 #endif
 #if DNG_HAVE_NEON_KERNELS
   case InstructionSet::kNeon: return true;
@@ -38,7 +42,8 @@ std::atomic<int> g_active{-1};
 } // namespace
 
 InstructionSet bestInstructionSet() {
-  for (InstructionSet set : {InstructionSet::kAvx2, InstructionSet::kSse41, InstructionSet::kNeon}) {
+  for (InstructionSet set :
+       {InstructionSet::kAvx512, InstructionSet::kAvx2, InstructionSet::kSse41, InstructionSet::kNeon}) {
     if (supported(set)) return set;
   }
   return InstructionSet::kScalar;
@@ -67,6 +72,7 @@ const char* instructionSetName(InstructionSet set) {
   case InstructionSet::kSse41: return "sse4.1";
   case InstructionSet::kAvx2: return "avx2";
   case InstructionSet::kNeon: return "neon";
+  case InstructionSet::kAvx512: return "avx512";
   }
   return "unknown";
 }
@@ -76,6 +82,7 @@ const BatchKernels* activeBatchKernels() {
 #if DNG_HAVE_X86_KERNELS
   case InstructionSet::kSse41: return &kSse41Kernels;
   case InstructionSet::kAvx2: return &kAvx2Kernels;
+  case InstructionSet::kAvx512: return &kAvx512Kernels;
 #endif
 #if DNG_HAVE_NEON_KERNELS
   case InstructionSet::kNeon: return &kNeonKernels;

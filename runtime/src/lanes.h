@@ -1,6 +1,7 @@
 // Internal: a small SIMD layer for the batch kernels, in the spirit of Jolt's Vec4/Vec8. One interface
 // serves every instruction set: the translation unit that includes this header defines
-// DNG_LANES_AVX2 (8 lanes), DNG_LANES_SSE41 (4 lanes) or DNG_LANES_NEON (4 lanes, aarch64) and is
+// DNG_LANES_AVX512 (16 lanes), DNG_LANES_AVX2 (8 lanes), DNG_LANES_SSE41 (4 lanes) or DNG_LANES_NEON
+// (4 lanes, aarch64) and is
 // compiled for that set (runtime/CMakeLists.txt). Each set gets its own namespace, so the builds of
 // the kernels never meet at link time.
 //
@@ -12,18 +13,21 @@
 // masks, gathers; V3 below is written once on top of it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #define DNG_LANE_INLINE inline __attribute__((always_inline))
 // The same for a lambda handed to an inlined kernel (after its parameter list).
 #define DNG_LANE_LAMBDA __attribute__((always_inline))
 
-#if defined(DNG_LANES_AVX2) || defined(DNG_LANES_SSE41)
+#if defined(DNG_LANES_AVX512)
+#include "lanes_avx512.h"
+#elif defined(DNG_LANES_AVX2) || defined(DNG_LANES_SSE41)
 #include "lanes_x86.h"
 #elif defined(DNG_LANES_NEON)
 #include "lanes_neon.h"
 #else
-#error "define DNG_LANES_AVX2, DNG_LANES_SSE41 or DNG_LANES_NEON before including lanes.h"
+#error "define DNG_LANES_AVX512, DNG_LANES_AVX2, DNG_LANES_SSE41 or DNG_LANES_NEON before including lanes.h"
 #endif
 
 namespace dng {
@@ -44,9 +48,12 @@ DNG_LANE_INLINE F length(V3 a) { return sqrt(dot(a, a)); }
 DNG_LANE_INLINE V3 select(M m, V3 a, V3 b) { return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)}; }
 DNG_LANE_INLINE V3 splat(float x, float y, float z) { return {splat(x), splat(y), splat(z)}; }
 
+/// Arrays of a register's lanes are aligned to a whole register of the widest set.
+constexpr std::size_t kLaneAlign = 64;
+
 /// Three arrays of a register's floats, lane by lane: a V3 stored for scalar code.
 struct Lanes3 {
-  alignas(32) float x[kWidth], y[kWidth], z[kWidth];
+  alignas(kLaneAlign) float x[kWidth], y[kWidth], z[kWidth];
 };
 
 } // namespace DNG_LANES_NS

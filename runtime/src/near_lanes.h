@@ -55,7 +55,7 @@ DNG_LANE_INLINE I cellAxis(const IndexGrid& g, F x, int axis) {
 }
 
 struct LaneCells {
-  alignas(32) std::uint32_t axis[3][kWidth];
+  alignas(kLaneAlign) std::uint32_t axis[3][kWidth];
 };
 
 // The cells a register's boxes touch: per axis the first and last, and where a box is in one cell,
@@ -192,7 +192,7 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
   storeCells(r, &c0, &c1);
   // Lanes whose box is in one cell, and that cell: a cell's bodies are listed once for all its lanes.
   const unsigned single = bits(r.single);
-  alignas(32) std::int32_t cells[kWidth];
+  alignas(kLaneAlign) std::int32_t cells[kWidth];
   std::memcpy(cells, &r.cell, sizeof cells);
   for (unsigned pending = lanes; pending != 0;) {
     const int lane = __builtin_ctz(pending);
@@ -213,8 +213,8 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
 /// body[k] holds every lane's k-th body.
 struct LaneLists {
   static constexpr int kMax = 4; ///< a lane near more bodies goes to the scalar path
-  alignas(32) std::int32_t body[kMax][kWidth];
-  alignas(32) std::int32_t count[kWidth];
+  alignas(kLaneAlign) std::int32_t body[kMax][kWidth];
+  alignas(kLaneAlign) std::int32_t count[kWidth];
   unsigned held[kMax]; ///< per k, the lanes whose k-th body's box holds their position
 };
 

@@ -29,7 +29,7 @@ float neighbourBoundLanes(const View& view, const NeighbourPoints& points, float
     store(out_terms + n, select(s.far_inside, splat(-std::numeric_limits<float>::infinity()), term));
     best = select(s.far_inside, best, maxOf(term, best));
   }
-  alignas(32) float lane[kWidth];
+  alignas(kLaneAlign) float lane[kWidth];
   store(lane, best);
   return *std::max_element(lane, lane + kWidth);
 }

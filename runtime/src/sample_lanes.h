@@ -47,7 +47,7 @@ DNG_LANE_INLINE V3 octDecodeLanes(I qu, I qv, F scale) {
 // 16-bit section entries (LIFT, GRAD, SHAD), widened; lanes where `m` is false give 0. Lane by lane: no set
 // here gathers 16-bit words, and a 32-bit gather could read past the end of the file's last section.
 template <class T> DNG_LANE_INLINE I gather16(const T* base, I index, M m) {
-  alignas(32) std::int32_t at[kWidth], out[kWidth];
+  alignas(kLaneAlign) std::int32_t at[kWidth], out[kWidth];
   std::memcpy(at, &index, sizeof at);
   const unsigned on = bits(m);
   for (int n = 0; n < kWidth; ++n)
@@ -427,7 +427,7 @@ template <bool kDense> DNG_LANE_INLINE LaneSample accurateLanes(const View& view
 
 // The lanes' points from strided xyz triples, starting at point n.
 DNG_LANE_INLINE V3 loadPoints(const unsigned char* bytes, std::size_t stride, std::size_t n) {
-  alignas(32) float xyz[3][kWidth];
+  alignas(kLaneAlign) float xyz[3][kWidth];
   for (int lane = 0; lane < kWidth; ++lane) {
     float p[3];
     std::memcpy(p, bytes + (n + std::size_t(lane)) * stride, sizeof p);
@@ -438,7 +438,7 @@ DNG_LANE_INLINE V3 loadPoints(const unsigned char* bytes, std::size_t stride, st
 
 // Writes the lanes' samples to out[0..kWidth).
 DNG_LANE_INLINE void storeSamples(const LaneSample& s, Sample* out) {
-  alignas(32) float d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
+  alignas(kLaneAlign) float d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
   store(d, s.distance), store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
   const unsigned in_band = bits(s.in_band), outside = bits(s.far_outside), inside = bits(s.far_inside);
   for (int lane = 0; lane < kWidth; ++lane) {

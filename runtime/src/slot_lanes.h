@@ -64,7 +64,7 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, in
     first = std::min(first, lists.body[next[__builtin_ctz(l)]][__builtin_ctz(l)]);
   const StepBody& shared = batch.prepared[first];
   const Material& material = batch.bodies[first].material();
-  alignas(32) std::int32_t body[kWidth];
+  alignas(kLaneAlign) std::int32_t body[kWidth];
   unsigned on = 0, others = 0;
   bool still = shared.still;
   for (unsigned l = *left; l != 0; l &= l - 1) {

@@ -44,7 +44,7 @@ DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride
 // The optional per-particle outputs of the lanes in `on`.
 DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch, unsigned on) {
   if (s.out_contact == nullptr && s.out_body == nullptr) return;
-  alignas(32) std::int32_t body[kWidth];
+  alignas(kLaneAlign) std::int32_t body[kWidth];
   std::memcpy(body, &touch, sizeof body);
   for (int lane = 0; lane < kWidth; ++lane) {
     if (!((on >> lane) & 1u)) continue;
@@ -92,15 +92,15 @@ struct Deferred {
   std::size_t count = 0;
   std::size_t index[kCapacity];
   // The velocities after the responses and the touched bodies, padded to whole registers.
-  alignas(32) float vx[kCapacity + kWidth], vy[kCapacity + kWidth], vz[kCapacity + kWidth];
-  alignas(32) std::int32_t touch[kCapacity + kWidth];
+  alignas(kLaneAlign) float vx[kCapacity + kWidth], vy[kCapacity + kWidth], vz[kCapacity + kWidth];
+  alignas(kLaneAlign) std::int32_t touch[kCapacity + kWidth];
 
   bool full() const { return count + std::size_t(kWidth) > kCapacity; }
 
   // Adds the lanes `on` of chunk n, with their velocities and touches.
   void add(std::size_t n, V3 velocity, I touched, unsigned on) {
     Lanes3 v;
-    alignas(32) std::int32_t t[kWidth];
+    alignas(kLaneAlign) std::int32_t t[kWidth];
     store(v.x, velocity.x), store(v.y, velocity.y), store(v.z, velocity.z);
     std::memcpy(t, &touched, sizeof t);
     for (; on != 0; on &= on - 1) {

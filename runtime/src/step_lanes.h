@@ -211,7 +211,7 @@ enum class WalkPart { kBalls, kCells };
 // The lanes whose bound is a pair of planes go to *out_pairs: one plane per lane is all the lanes' cell
 // steps take, so those need the scalar walk (their values bound the distance all the same).
 DNG_LANE_INLINE LaneSample secondBoundLanes(const View& field, V3 p, const LaneSample& s, M m, M* out_pairs) {
-  alignas(32) float px[kWidth], py[kWidth], pz[kWidth], d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
+  alignas(kLaneAlign) float px[kWidth], py[kWidth], pz[kWidth], d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
   store(px, p.x), store(py, p.y), store(pz, p.z), store(d, s.distance);
   store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
   unsigned in_band = 0, far_outside = 0, far_inside = 0, pairs = 0;

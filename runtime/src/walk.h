@@ -51,7 +51,7 @@ inline float walkProofLevel(const View& field) { return 0.01f * field.grid().vox
 struct NeighbourPoints {
   static constexpr int kCount = 26;
   static constexpr int kPadded = 32;
-  alignas(32) float x[kPadded], y[kPadded], z[kPadded], gap[kPadded];
+  alignas(64) float x[kPadded], y[kPadded], z[kPadded], gap[kPadded];
 };
 
 /// Walks the local segment a -> a + delta through `field`, keeping at least `margin` (local units)

@@ -1,0 +1,16 @@
+// The batch kernels built for AVX-512 (F, DQ, BW, VL), 16 lanes (compiled with the matching -m flags:
+// runtime/CMakeLists.txt). instruction_set.cpp calls them only on CPUs that support the set.
+#define DNG_LANES_AVX512
+#include "span_lanes.h"
+
+namespace dng {
+
+extern const BatchKernels kAvx512Kernels;
+const BatchKernels kAvx512Kernels = {"avx512",
+                                     &lanes::avx512::sampleNearestBatch,
+                                     &lanes::avx512::sampleTrilinearBatch,
+                                     &lanes::avx512::sampleAccurateBatch,
+                                     &lanes::avx512::stepLanes,
+                                     &lanes::avx512::neighbourBound};
+
+} // namespace dng
