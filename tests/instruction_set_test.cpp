@@ -147,8 +147,8 @@ std::vector<float> queryPoints(std::size_t count) {
 TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
   const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
   const AnalyticField sphere = analytic::sphereField({0.4f, -0.3f, 0.2f}, 12.0f);
-  // 20,031 = 32 k + 16 + 15 = 16 k + 8 + 7 = 8 k + 4 + 3: pairs of registers, one register alone and a
-  // tail, at 16, 8 and 4 lanes.
+  // 20,031 = 64 k + 32 + 31 = 16 k + 8 + 7 = 8 k + 4 + 3: pairs of registers, one register alone and a
+  // tail, at 32, 8 and 4 lanes.
   const std::vector<float> points = queryPoints(20031);
   const std::size_t count = points.size() / 4;
   for (const AnalyticField* shape : {&box, &sphere}) {

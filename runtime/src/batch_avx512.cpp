@@ -1,4 +1,4 @@
-// The batch kernels built for AVX-512 (F, DQ, BW, VL), 16 lanes (compiled with the matching -m flags:
+// The batch kernels built for AVX-512 (F, DQ, BW, VL), 32 lanes in two registers (compiled with the matching -m flags:
 // runtime/CMakeLists.txt). instruction_set.cpp calls them only on CPUs that support the set.
 #define DNG_LANES_AVX512
 #include "span_lanes.h"

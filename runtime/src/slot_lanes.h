@@ -81,7 +81,7 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, in
   out->one[k] = others == 0 ? &shared : nullptr;
   out->one_index[k] = first;
   if (others == 0) return;
-  for (unsigned l = ((1u << kWidth) - 1) & ~on; l != 0; l &= l - 1)
+  for (unsigned l = (~0u >> (32 - kWidth)) & ~on; l != 0; l &= l - 1)
     body[__builtin_ctz(l)] = first; // lanes without a body here read the first's numbers (and stay off)
   I index;
   std::memcpy(&index, body, sizeof index);

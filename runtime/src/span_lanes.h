@@ -160,7 +160,7 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
     const LaneParticles p{gatherPositions(s, index, lanes),
                           {load(io->vx + from), load(io->vy + from), load(io->vz + from)}};
     const V3 end = p.position + p.velocity * splat(batch.dt);
-    const unsigned on = (1u << lanes) - 1;
+    const unsigned on = ~0u >> (32 - lanes);
     M live = laneMask(on);
     const NearList* bodies = batch.all;
     if (batch.index != nullptr) {
@@ -216,7 +216,7 @@ DNG_LANE_INLINE void finishChunk(const StepBatch& batch, std::size_t n, const La
     if (deferred->full()) finishDeferred(batch, deferred);
     deferred->add(n, p.velocity, c.touch, later);
   }
-  const unsigned rest = ((1u << kWidth) - 1) & ~bits(c.live); // lanes whose bodies the lists could not hold
+  const unsigned rest = (~0u >> (32 - kWidth)) & ~bits(c.live); // lanes whose bodies the lists could not hold
   for (int lane = 0; lane < kWidth; ++lane) {
     if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
   }

@@ -1,6 +1,6 @@
 // Which SIMD instruction set View::sampleBatch (all three modes) and stepParticles use.
 //
-// The runtime carries its batch kernels for SSE4.1 (4 lanes), AVX2 (8 lanes) and AVX-512 (16 lanes) on x86-64, where it
+// The runtime carries its batch kernels for SSE4.1 (4 lanes), AVX2 (8 lanes) and AVX-512 (32 lanes, two registers of 16) on x86-64, where it
 // picks the best one the CPU supports the first time it needs one, and for NEON (4 lanes) on aarch64. Every kernel
 // gives bit for bit the result of the scalar code, which stays the reference and the fallback (other CPUs, and the
 // cases the kernels hand back: docs/RUNTIME.md, "SIMD"). Choosing a set is for tests and benchmarks; the results do not
@@ -18,7 +18,7 @@ enum class InstructionSet : std::uint32_t {
   kSse41 = 1,  ///< x86-64 SSE4.1, 4 lanes
   kAvx2 = 2,   ///< x86-64 AVX2, 8 lanes
   kNeon = 3,   ///< aarch64 Advanced SIMD, 4 lanes
-  kAvx512 = 4, ///< x86-64 AVX-512 (F, DQ, BW, VL), 16 lanes
+  kAvx512 = 4, ///< x86-64 AVX-512 (F, DQ, BW, VL), 32 lanes: two registers of 16 side by side
 };
 
 /// Every set there is, the scalar path first, the SIMD sets from the narrowest: for tests and tools that
