@@ -34,6 +34,17 @@ namespace dng {
 namespace lanes {
 namespace DNG_LANES_NS {
 
+/// The lanes whose bit is set in a LaneBits (bits(), laneMask()): lane n is bit n.
+DNG_LANE_INLINE LaneBits laneBit(int lane) { return LaneBits(1) << lane; }
+/// Every lane's bit.
+DNG_LANE_INLINE LaneBits allLanes() { return LaneBits(~LaneBits(0)) >> (8 * sizeof(LaneBits) - kWidth); }
+/// The bits of lanes 0 to n - 1, for n in [1, kWidth].
+DNG_LANE_INLINE LaneBits firstLanes(int n) { return LaneBits(~LaneBits(0)) >> (8 * sizeof(LaneBits) - unsigned(n)); }
+/// The lowest lane whose bit is set in `on`, which is not zero.
+DNG_LANE_INLINE int lowestLane(LaneBits on) {
+  return sizeof(LaneBits) > sizeof(unsigned) ? __builtin_ctzll(on) : __builtin_ctz(unsigned(on));
+}
+
 /// Three lanes of floats: a point or a vector per lane.
 struct V3 {
   F x, y, z;

@@ -22,6 +22,8 @@ namespace lanes {
 namespace DNG_LANES_NS {
 
 constexpr int kWidth = 32;
+/// One bit per lane (bits(), laneMask()).
+using LaneBits = std::uint32_t;
 
 /// Lanes of float: lanes 0-15 in a, 16-31 in b.
 struct F {
@@ -87,7 +89,7 @@ DNG_LANE_INLINE M operator~(M x) { return {_mm512_knot(x.a), _mm512_knot(x.b)}; 
 /// x and not y.
 DNG_LANE_INLINE M andNot(M x, M y) { return {_mm512_kandn(y.a, x.a), _mm512_kandn(y.b, x.b)}; }
 /// Bit n set when lane n is true.
-DNG_LANE_INLINE unsigned bits(M x) { return unsigned(x.a) | unsigned(x.b) << 16; }
+DNG_LANE_INLINE LaneBits bits(M x) { return LaneBits(x.a) | LaneBits(x.b) << 16; }
 DNG_LANE_INLINE bool any(M x) { return (x.a | x.b) != 0; }
 DNG_LANE_INLINE bool all(M x) { return (x.a & x.b) == 0xFFFF; }
 /// m ? x : y per lane.
@@ -95,7 +97,7 @@ DNG_LANE_INLINE F select(M m, F x, F y) {
   return {_mm512_mask_blend_ps(m.a, y.a, x.a), _mm512_mask_blend_ps(m.b, y.b, x.b)};
 }
 /// Lane n true when bit n is set.
-DNG_LANE_INLINE M laneMask(unsigned lane_bits) { return {__mmask16(lane_bits), __mmask16(lane_bits >> 16)}; }
+DNG_LANE_INLINE M laneMask(LaneBits lane_bits) { return {__mmask16(lane_bits), __mmask16(lane_bits >> 16)}; }
 
 // ---- integers ----
 DNG_LANE_INLINE I splatI(std::int32_t x) {

@@ -14,6 +14,8 @@ namespace lanes {
 namespace DNG_LANES_NS {
 
 constexpr int kWidth = 4;
+/// One bit per lane (bits(), laneMask()).
+using LaneBits = std::uint32_t;
 
 struct F {
   float32x4_t v;
@@ -54,7 +56,7 @@ DNG_LANE_INLINE M operator~(M a) { return {vmvnq_u32(a.v)}; }
 /// a and not b.
 DNG_LANE_INLINE M andNot(M a, M b) { return {vbicq_u32(a.v, b.v)}; }
 /// Bit n set when lane n is true.
-DNG_LANE_INLINE unsigned bits(M a) {
+DNG_LANE_INLINE LaneBits bits(M a) {
   const int32_t shifts[4] = {0, 1, 2, 3};
   return unsigned(vaddvq_u32(vshlq_u32(vshrq_n_u32(a.v, 31), vld1q_s32(shifts))));
 }
@@ -62,7 +64,7 @@ DNG_LANE_INLINE bool any(M a) { return vmaxvq_u32(a.v) != 0; }
 DNG_LANE_INLINE bool all(M a) { return vminvq_u32(a.v) != 0; }
 /// m ? a : b per lane.
 DNG_LANE_INLINE F select(M m, F a, F b) { return {vbslq_f32(m.v, a.v, b.v)}; }
-DNG_LANE_INLINE M laneMask(unsigned lane_bits) {
+DNG_LANE_INLINE M laneMask(LaneBits lane_bits) {
   std::uint32_t b[4];
   for (int n = 0; n < 4; ++n)
     b[n] = (lane_bits >> n) & 1u ? ~0u : 0u;

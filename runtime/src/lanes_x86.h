@@ -36,6 +36,9 @@ using RawI = __m128i;
 #define DNG_CVTT(x) _mm_cvttps_epi32(x)
 #endif
 
+/// One bit per lane (bits(), laneMask()).
+using LaneBits = std::uint32_t;
+
 /// Lanes of float.
 struct F {
   RawF v;
@@ -91,14 +94,14 @@ DNG_LANE_INLINE M operator~(M a) { return {DNG_PS(xor)(a.v, allTrue().v)}; }
 /// a and not b.
 DNG_LANE_INLINE M andNot(M a, M b) { return {DNG_PS(andnot)(b.v, a.v)}; }
 /// Bit n set when lane n is true.
-DNG_LANE_INLINE unsigned bits(M a) { return unsigned(DNG_PS(movemask)(a.v)); }
+DNG_LANE_INLINE LaneBits bits(M a) { return LaneBits(DNG_PS(movemask)(a.v)); }
 DNG_LANE_INLINE bool any(M a) { return bits(a) != 0; }
 DNG_LANE_INLINE bool all(M a) { return bits(a) == (1u << kWidth) - 1; }
 /// m ? a : b per lane.
 DNG_LANE_INLINE F select(M m, F a, F b) { return {DNG_PS(blendv)(b.v, a.v, m.v)}; }
 /// Lane n true when bit n is set. Each lane tests its own bit in one compare: the kernels build a mask
 /// per slot of bodies, and a loop over the lanes cost more than the slot's box tests.
-DNG_LANE_INLINE M laneMask(unsigned lane_bits) {
+DNG_LANE_INLINE M laneMask(LaneBits lane_bits) {
 #if defined(DNG_LANES_AVX2)
   const RawI lane_bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
 #else

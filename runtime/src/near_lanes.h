@@ -185,20 +185,20 @@ DNG_LANE_INLINE M listNear(const IndexGrid& g, const NearQuery& q, M live) {
   live = andNot(live, notNumbers(lo, hi));
   listBodies(g, g.everywhere, g.everywhere_count, q, &live);
   // Boxes outside the scene's meet only the bodies listed everywhere (BodyIndex::Impl::listsFor).
-  const unsigned lanes = bits(live & inScene(g, lo, hi));
+  const LaneBits lanes = bits(live & inScene(g, lo, hi));
   if (lanes == 0) return live;
   const LaneCellRange r = cellRange(g, lo, hi);
   LaneCells c0, c1;
   storeCells(r, &c0, &c1);
   // Lanes whose box is in one cell, and that cell: a cell's bodies are listed once for all its lanes.
-  const unsigned single = bits(r.single);
+  const LaneBits single = bits(r.single);
   alignas(kLaneAlign) std::int32_t cells[kWidth];
   std::memcpy(cells, &r.cell, sizeof cells);
-  for (unsigned pending = lanes; pending != 0;) {
-    const int lane = __builtin_ctz(pending);
+  for (LaneBits pending = lanes; pending != 0;) {
+    const int lane = lowestLane(pending);
     pending &= pending - 1;
     if (!((single >> lane) & 1u)) {
-      if (!listLaneCells(g, c0, c1, lane, q, &live)) live = andNot(live, laneMask(1u << lane));
+      if (!listLaneCells(g, c0, c1, lane, q, &live)) live = andNot(live, laneMask(laneBit(lane)));
       continue;
     }
     listCell(g, std::size_t(std::uint32_t(cells[lane])), q, &live);
@@ -215,7 +215,7 @@ struct LaneLists {
   static constexpr int kMax = 4; ///< a lane near more bodies goes to the scalar path
   alignas(kLaneAlign) std::int32_t body[kMax][kWidth];
   alignas(kLaneAlign) std::int32_t count[kWidth];
-  unsigned held[kMax]; ///< per k, the lanes whose k-th body's box holds their position
+  LaneBits held[kMax]; ///< per k, the lanes whose k-th body's box holds their position
 };
 
 // The lanes' query boxes and positions, stored for scalar code.
@@ -241,7 +241,7 @@ DNG_LANE_INLINE bool meetsBox(const Box& box, const Lanes3& lo, const Lanes3& hi
 // each; false when the list is full without one.
 DNG_LANE_INLINE bool listForLane(const IndexGrid& g, const std::uint32_t* bodies, std::size_t count, const LaneQuery& q,
                                  int lane, LaneLists* io) {
-  const unsigned bit = 1u << lane;
+  const LaneBits bit = laneBit(lane);
   std::int32_t& n = io->count[lane];
   for (std::size_t k = 0; k < count; ++k) {
     const auto b = std::int32_t(bodies[k]);
@@ -280,15 +280,15 @@ DNG_LANE_INLINE bool listLane(const IndexGrid& g, const LaneQuery& q, const Lane
 }
 
 // Lists the lanes `lanes` one at a time (listLane); returns those whose lists are complete.
-DNG_LANE_INLINE unsigned listLanes(const IndexGrid& g, V3 lo, V3 hi, V3 at, const LaneCellRange& r, unsigned lanes,
-                                   unsigned scene, LaneLists* io) {
+DNG_LANE_INLINE LaneBits listLanes(const IndexGrid& g, V3 lo, V3 hi, V3 at, const LaneCellRange& r, LaneBits lanes,
+                                   LaneBits scene, LaneLists* io) {
   const LaneQuery q = storeQuery(lo, hi, at);
   LaneCells c0, c1;
   storeCells(r, &c0, &c1);
-  unsigned complete = 0;
-  for (unsigned on = lanes; on != 0; on &= on - 1) {
-    const int lane = __builtin_ctz(on);
-    if (listLane(g, q, c0, c1, lane, (scene >> lane) & 1u, io)) complete |= 1u << lane;
+  LaneBits complete = 0;
+  for (LaneBits on = lanes; on != 0; on &= on - 1) {
+    const int lane = lowestLane(on);
+    if (listLane(g, q, c0, c1, lane, (scene >> lane) & 1u, io)) complete |= laneBit(lane);
   }
   return complete;
 }
@@ -357,7 +357,7 @@ DNG_LANE_INLINE M listEachLane(const IndexGrid& g, V3 lo, V3 hi, V3 at, M live, 
   // at a time.
   const M one_cell = g.everywhere_count == 0 ? live & in_scene & r.single : andNot(live, live);
   live = andNot(live, listOneCellEach(g, lo, hi, at, one_cell, r.cell, out));
-  const unsigned others = bits(andNot(live, one_cell));
+  const LaneBits others = bits(andNot(live, one_cell));
   if (others != 0) live = andNot(live, laneMask(others & ~listLanes(g, lo, hi, at, r, others, bits(in_scene), out)));
   return live;
 }
@@ -367,14 +367,14 @@ DNG_LANE_INLINE M listEachLane(const IndexGrid& g, V3 lo, V3 hi, V3 at, M live, 
 /// fit a NearList leave *io_live.
 DNG_LANE_INLINE void unionOfLanes(const LaneLists& lists, NearList* moves, NearList* responses, M* io_live) {
   moves->count = responses->count = 0;
-  for (unsigned on = bits(*io_live); on != 0; on &= on - 1) {
-    const int lane = __builtin_ctz(on);
+  for (LaneBits on = bits(*io_live); on != 0; on &= on - 1) {
+    const int lane = lowestLane(on);
     bool fits = true;
     for (int k = 0; k < lists.count[lane]; ++k) {
       fits = fits && insert(lists.body[k][lane], moves);
       if ((lists.held[k] >> lane) & 1u) fits = fits && insert(lists.body[k][lane], responses);
     }
-    if (!fits) *io_live = andNot(*io_live, laneMask(1u << lane));
+    if (!fits) *io_live = andNot(*io_live, laneMask(laneBit(lane)));
   }
 }
 

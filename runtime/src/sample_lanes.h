@@ -49,7 +49,7 @@ DNG_LANE_INLINE V3 octDecodeLanes(I qu, I qv, F scale) {
 template <class T> DNG_LANE_INLINE I gather16(const T* base, I index, M m) {
   alignas(kLaneAlign) std::int32_t at[kWidth], out[kWidth];
   std::memcpy(at, &index, sizeof at);
-  const unsigned on = bits(m);
+  const LaneBits on = bits(m);
   for (int n = 0; n < kWidth; ++n)
     out[n] = (on >> n) & 1u ? std::int32_t(base[at[n]]) : 0;
   I widened;
@@ -440,9 +440,9 @@ DNG_LANE_INLINE V3 loadPoints(const unsigned char* bytes, std::size_t stride, st
 DNG_LANE_INLINE void storeSamples(const LaneSample& s, Sample* out) {
   alignas(kLaneAlign) float d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
   store(d, s.distance), store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
-  const unsigned in_band = bits(s.in_band), outside = bits(s.far_outside), inside = bits(s.far_inside);
+  const LaneBits in_band = bits(s.in_band), outside = bits(s.far_outside), inside = bits(s.far_inside);
   for (int lane = 0; lane < kWidth; ++lane) {
-    const unsigned bit = 1u << lane;
+    const LaneBits bit = laneBit(lane);
     const SampleStatus status = (in_band & bit)   ? SampleStatus::kInBand
                                 : (outside & bit) ? SampleStatus::kFarOutside
                                 : (inside & bit)  ? SampleStatus::kFarInside

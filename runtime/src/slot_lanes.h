@@ -27,7 +27,7 @@ namespace DNG_LANES_NS {
 struct ChunkSlots {
   static constexpr int kMax = 8; ///< a chunk whose lanes' bodies need more goes the union way
   int count = 0;
-  unsigned on[kMax];
+  LaneBits on[kMax];
   const StepBody* one[kMax]; ///< null: the slot's lanes hold different bodies, in each[k]
   std::int32_t one_index[kMax];
   const Material* material[kMax];
@@ -56,33 +56,33 @@ DNG_LANE_INLINE bool sameKind(const StepBatch& batch, std::int32_t b, const Step
 // `next` advanced, and the lane out of *left once its list is done). Taking the lowest first lets a
 // body that every lane lists, such as a ground, wait until each lane reaches it, so it takes one slot.
 // One body for every lane is kept as it is; different bodies are gathered.
-DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, int* next, unsigned* left,
+DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, int* next, LaneBits* left,
                               ChunkSlots* out) {
   const int k = out->count++;
   std::int32_t first = std::numeric_limits<std::int32_t>::max();
-  for (unsigned l = *left; l != 0; l &= l - 1)
-    first = std::min(first, lists.body[next[__builtin_ctz(l)]][__builtin_ctz(l)]);
+  for (LaneBits l = *left; l != 0; l &= l - 1)
+    first = std::min(first, lists.body[next[lowestLane(l)]][lowestLane(l)]);
   const StepBody& shared = batch.prepared[first];
   const Material& material = batch.bodies[first].material();
   alignas(kLaneAlign) std::int32_t body[kWidth];
-  unsigned on = 0, others = 0;
+  LaneBits on = 0, others = 0;
   bool still = shared.still;
-  for (unsigned l = *left; l != 0; l &= l - 1) {
-    const int lane = __builtin_ctz(l);
+  for (LaneBits l = *left; l != 0; l &= l - 1) {
+    const int lane = lowestLane(l);
     const std::int32_t b = lists.body[next[lane]][lane];
     if (b != first && !sameKind(batch, b, shared, material)) continue;
     body[lane] = b;
-    on |= 1u << lane;
-    if (b != first) others |= 1u << lane, still = still && batch.prepared[b].still;
-    if (++next[lane] == lists.count[lane]) *left &= ~(1u << lane);
+    on |= laneBit(lane);
+    if (b != first) others |= laneBit(lane), still = still && batch.prepared[b].still;
+    if (++next[lane] == lists.count[lane]) *left &= ~(laneBit(lane));
   }
   out->on[k] = on;
   out->material[k] = &material;
   out->one[k] = others == 0 ? &shared : nullptr;
   out->one_index[k] = first;
   if (others == 0) return;
-  for (unsigned l = (~0u >> (32 - kWidth)) & ~on; l != 0; l &= l - 1)
-    body[__builtin_ctz(l)] = first; // lanes without a body here read the first's numbers (and stay off)
+  for (LaneBits l = allLanes() & ~on; l != 0; l &= l - 1)
+    body[lowestLane(l)] = first; // lanes without a body here read the first's numbers (and stay off)
   I index;
   std::memcpy(&index, body, sizeof index);
   gatherBodies(batch.prepared, index, shared, still, &out->each[k]);
@@ -96,9 +96,9 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, in
 DNG_LANE_INLINE bool makeSlots(const StepBatch& batch, const LaneLists& lists, M live, ChunkSlots* out) {
   out->count = 0;
   int next[kWidth] = {};
-  unsigned left = 0;
-  for (unsigned l = bits(live); l != 0; l &= l - 1)
-    left |= lists.count[__builtin_ctz(l)] != 0 ? 1u << __builtin_ctz(l) : 0u;
+  LaneBits left = 0;
+  for (LaneBits l = bits(live); l != 0; l &= l - 1)
+    left |= lists.count[lowestLane(l)] != 0 ? laneBit(lowestLane(l)) : LaneBits(0);
   if (left != 0 && !batch.gatherable) return false;
   while (left != 0) {
     if (out->count == ChunkSlots::kMax) return false;
@@ -125,14 +125,14 @@ DNG_LANE_INLINE bool keepsItsBodies(const IndexGrid& g, const LaneQuery& q, cons
 /// The lanes of `moved` (whose move boxes the responses changed, now [lo, hi]) that keep their lists.
 DNG_LANE_INLINE M relisted(const IndexGrid& g, V3 lo, V3 hi, M moved, const LaneLists& lists) {
   moved = andNot(moved, notNumbers(lo, hi));
-  const unsigned scene = bits(inScene(g, lo, hi));
+  const LaneBits scene = bits(inScene(g, lo, hi));
   const LaneQuery q = storeQuery(lo, hi, lo); // positions unused: only the moves' bodies are compared
   LaneCells c0, c1;
   storeCells(cellRange(g, lo, hi), &c0, &c1);
-  unsigned kept = 0;
-  for (unsigned on = bits(moved); on != 0; on &= on - 1) {
-    const int lane = __builtin_ctz(on);
-    if (keepsItsBodies(g, q, c0, c1, lane, (scene >> lane) & 1u, lists)) kept |= 1u << lane;
+  LaneBits kept = 0;
+  for (LaneBits on = bits(moved); on != 0; on &= on - 1) {
+    const int lane = lowestLane(on);
+    if (keepsItsBodies(g, q, c0, c1, lane, (scene >> lane) & 1u, lists)) kept |= laneBit(lane);
   }
   return moved & laneMask(kept);
 }

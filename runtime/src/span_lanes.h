@@ -24,7 +24,7 @@ DNG_LANE_INLINE V3 loadLanes(float* x, float* y, float* z, std::size_t stride, s
   return {load(l.x), load(l.y), load(l.z)};
 }
 
-DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n, V3 v, unsigned on) {
+DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride, std::size_t n, V3 v, LaneBits on) {
   if (stride == sizeof(float)) { // packed: whole registers, lanes left to the scalar path keep their bytes
     const M m = laneMask(on);
     store(x + n, select(m, v.x, load(x + n)));
@@ -42,7 +42,7 @@ DNG_LANE_INLINE void storeLanes(float* x, float* y, float* z, std::size_t stride
 }
 
 // The optional per-particle outputs of the lanes in `on`.
-DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch, unsigned on) {
+DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch, LaneBits on) {
   if (s.out_contact == nullptr && s.out_body == nullptr) return;
   alignas(kLaneAlign) std::int32_t body[kWidth];
   std::memcpy(body, &touch, sizeof body);
@@ -98,13 +98,13 @@ struct Deferred {
   bool full() const { return count + std::size_t(kWidth) > kCapacity; }
 
   // Adds the lanes `on` of chunk n, with their velocities and touches.
-  void add(std::size_t n, V3 velocity, I touched, unsigned on) {
+  void add(std::size_t n, V3 velocity, I touched, LaneBits on) {
     Lanes3 v;
     alignas(kLaneAlign) std::int32_t t[kWidth];
     store(v.x, velocity.x), store(v.y, velocity.y), store(v.z, velocity.z);
     std::memcpy(t, &touched, sizeof t);
     for (; on != 0; on &= on - 1) {
-      const int lane = __builtin_ctz(on);
+      const int lane = lowestLane(on);
       index[count] = n + std::size_t(lane);
       vx[count] = v.x[lane], vy[count] = v.y[lane], vz[count] = v.z[lane], touch[count] = t[lane];
       ++count;
@@ -126,11 +126,11 @@ DNG_LANE_INLINE V3 gatherPositions(const ParticleSpan& s, const std::size_t* ind
 
 // Writes the lanes `on`: position, velocity and the optional outputs of the particle at index[lane].
 DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* index, V3 position, const Deferred& d,
-                                  std::size_t from, unsigned on) {
+                                  std::size_t from, LaneBits on) {
   Lanes3 p;
   store(p.x, position.x), store(p.y, position.y), store(p.z, position.z);
   for (; on != 0; on &= on - 1) {
-    const int lane = __builtin_ctz(on);
+    const int lane = lowestLane(on);
     const std::size_t i = index[lane], k = from + std::size_t(lane);
     strided(s.position_x, s.position_stride, i) = p.x[lane];
     strided(s.position_y, s.position_stride, i) = p.y[lane];
@@ -160,7 +160,7 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
     const LaneParticles p{gatherPositions(s, index, lanes),
                           {load(io->vx + from), load(io->vy + from), load(io->vz + from)}};
     const V3 end = p.position + p.velocity * splat(batch.dt);
-    const unsigned on = ~0u >> (32 - lanes);
+    const LaneBits on = firstLanes(lanes);
     M live = laneMask(on);
     const NearList* bodies = batch.all;
     if (batch.index != nullptr) {
@@ -171,10 +171,10 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
       prepareListed(batch, nullptr, &listed);
       bodies = &listed;
     }
-    const unsigned done = bits(moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
+    const LaneBits done = bits(moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
     scatterLanes(s, index, end, *io, from, done);
-    for (unsigned rest = on & ~done; rest != 0; rest &= rest - 1)
-      batch.scalar(batch.context, index[__builtin_ctz(rest)]);
+    for (LaneBits rest = on & ~done; rest != 0; rest &= rest - 1)
+      batch.scalar(batch.context, index[lowestLane(rest)]);
   }
   io->count = 0;
 }
@@ -185,7 +185,7 @@ struct ChunkStep {
   V3 end;
   I touch;
   M live;
-  unsigned done;
+  LaneBits done;
 };
 
 // The chunk's responses and balls through the bodies of `bodies` (every body, or the union of the
@@ -211,12 +211,12 @@ DNG_LANE_INLINE void finishChunk(const StepBatch& batch, std::size_t n, const La
   storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, c.end, c.done);
   storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, c.done);
   storeTouches(s, n, c.touch, c.done);
-  const unsigned later = bits(c.live) & ~c.done; // their walks need cells
+  const LaneBits later = bits(c.live) & ~c.done; // their walks need cells
   if (later != 0) {
     if (deferred->full()) finishDeferred(batch, deferred);
     deferred->add(n, p.velocity, c.touch, later);
   }
-  const unsigned rest = (~0u >> (32 - kWidth)) & ~bits(c.live); // lanes whose bodies the lists could not hold
+  const LaneBits rest = allLanes() & ~bits(c.live); // lanes whose bodies the lists could not hold
   for (int lane = 0; lane < kWidth; ++lane) {
     if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
   }

@@ -214,20 +214,20 @@ DNG_LANE_INLINE LaneSample secondBoundLanes(const View& field, V3 p, const LaneS
   alignas(kLaneAlign) float px[kWidth], py[kWidth], pz[kWidth], d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
   store(px, p.x), store(py, p.y), store(pz, p.z), store(d, s.distance);
   store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
-  unsigned in_band = 0, far_outside = 0, far_inside = 0, pairs = 0;
-  const unsigned band_bits = bits(s.in_band);
-  for (unsigned on = bits(m); on != 0; on &= on - 1) {
-    const int lane = __builtin_ctz(on);
+  LaneBits in_band = 0, far_outside = 0, far_inside = 0, pairs = 0;
+  const LaneBits band_bits = bits(s.in_band);
+  for (LaneBits on = bits(m); on != 0; on &= on - 1) {
+    const int lane = lowestLane(on);
     const Sample first{d[lane],
                        {nx[lane], ny[lane], nz[lane]},
                        (band_bits >> lane) & 1u ? SampleStatus::kInBand : SampleStatus::kNoField};
     ViewInternals::OtherPlane other;
     const Sample better = ViewInternals::secondBound(field, {px[lane], py[lane], pz[lane]}, first, &other);
     d[lane] = better.distance, nx[lane] = better.normal.x, ny[lane] = better.normal.y, nz[lane] = better.normal.z;
-    pairs |= unsigned(other.present) << lane;
-    in_band |= unsigned(better.status == SampleStatus::kInBand) << lane;
-    far_outside |= unsigned(better.status == SampleStatus::kFarOutside) << lane;
-    far_inside |= unsigned(better.status == SampleStatus::kFarInside) << lane;
+    pairs |= LaneBits(other.present) << lane;
+    in_band |= LaneBits(better.status == SampleStatus::kInBand) << lane;
+    far_outside |= LaneBits(better.status == SampleStatus::kFarOutside) << lane;
+    far_inside |= LaneBits(better.status == SampleStatus::kFarInside) << lane;
   }
   const M on = m & ~(s.no_field); // secondBound answers in-band samples only; the rest keep theirs
   *out_pairs = on & laneMask(pairs);
