@@ -128,7 +128,8 @@ def table1_section(path, table_mesh="fandisk"):
     rows = table1_rows(path)
     counts = sorted({n for (m, n, _) in rows if m == table_mesh})
     order = ["plain", "dngrid_nobody"] + ["dngrid_%s_%s" % (e, r) for e in ("dense", "bricked")
-                                          for r in ("impact", "flow", "flow_swept")] + ["dngrid_bricked_exact_flow"] + \
+                                          for r in ("impact", "flow", "flow_swept")] + \
+        ["dngrid_bricked_exact_flow", "dngrid_bricked_flow_avx2"] + \
         ["embree_rtcIntersect%d" % w for w in (1, 4, 8, 16)] + ["nanovdb_nearest", "nanovdb_trilinear"]
     order = [c for c in order if (table_mesh, counts[0], c) in rows]
     first = rows[(table_mesh, counts[0], "plain")]
@@ -198,19 +199,25 @@ def table1_section(path, table_mesh="fandisk"):
               "Embree's best and %.1fx the no-collision loop. Exact normals make tighter planes beside sharp edges, "
               "so fewer particles need the walk's neighbour bound; the blurred modes give smoother normals for "
               "drag and flow (docs/BAKING.md)." % (exact, best["ns"] / exact, exact / r("plain")))
-    print("\n*Where the time goes* (a profile, not part of this run: callgrind, 20,000 particles, 16 steps). "
-          "Every particle here stays within 2 voxels of the surface, so almost none is settled by its first sample "
-          "alone, and each particle-step takes the response's sample and at least one more to prove its move. On "
-          "`bench/swarm_hash --lifetime 8 --near 0.1 --speed 0.6`, a swarm spawned where the field reads 0.1 to 2 "
-          "voxels, the normal-blur bake takes 238 instructions per particle-step and the exact one 222, 6% and 3% "
-          "of them in the particle-steps handed to the scalar walk. This table's own swarm (the same spawn "
-          "points, 12 steps of 100,000 particles) takes 245 in normal-blur, 12% of them handed over: 0.1% of its "
-          "spawn points lie where neither the planes nor the second bounds can prove them outside (FORMAT.md "
-          "§5.5), and those particles never move and are handed over every step. "
-          "In all, the two samples (the response's with its shading normal, about 370 instructions per "
-          "register of 8 particles, and the walk's, about 290) are 39% of the instructions, the rules 7%, the "
-          "walks set aside and walked cell by cell together 10%. What Embree pays for a short segment near a "
-          "12,946-triangle mesh is a shallow BVH descent; what the field pays is fixed per sample.")
+    if (table_mesh, n, "dngrid_bricked_flow_avx2") in rows:
+        avx2 = r("dngrid_bricked_flow_avx2")
+        print("\nThe rows above run the best kernels this CPU has, AVX-512 (32 particles per chunk, two "
+              "registers of 16: docs/RUNTIME.md, \"SIMD\"). The same bricked impact+drag+flow step with the AVX2 "
+              "kernels, what a CPU without AVX-512 runs: %.1f ns, %.2fx Embree's best (which itself runs its AVX-512 "
+              "kernels here)." % (avx2, best["ns"] / avx2))
+    print("\n*Where the time goes* (not part of this run: cycle counters in a scratch build, fandisk, this "
+          "table's swarm). About two thirds of the step's time is the chunks' own work: each particle's response sample "
+          "(brick-top entry, then pool word and shading normal) and the sample at the end of its move that proves "
+          "the move clear with two balls; most of it waits on those gathers (an AVX-512 gather takes about 9 ns "
+          "from issue to result on this machine, and three of the four depend on another). Of the particles, "
+          "about 6% need the walk to go cell by cell (they are set aside and walked a register at a time, about "
+          "16% of the time) and 0.7% are handed to the scalar walk whole (about 16% of the time, at about "
+          "0.5 us each): stops at a plane during the move, neighbour bounds beside edges, and the spawn points "
+          "the planes cannot prove outside, which never move and are handed over every step. On the sweep's "
+          "detailed meshes (the dragons, the cow) 3-4% of particle-steps are handed over, most of them such "
+          "blocked particles, and they are about 40-45% of the time: that is why those meshes cost about twice "
+          "fandisk's. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
+          "what the field pays is fixed per sample.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
     sweep_n = min(n for (m, n, _) in rows if m != table_mesh) if any(m != table_mesh for (m, _, _) in rows) else n
@@ -308,8 +315,12 @@ def bodies_section(path):
           "broadphase the city costs %.0fx the ground alone. Every row runs the SIMD kernels; through the index "
           "each lane of a chunk lists its own bodies, and the chunk steps them slot by slot: in random order the "
           "lanes' different buildings (one field, one material) run in one pass with each lane's body gathered; "
-          "in lattice order the chunk shares its building. What is left is the listing (gathers from the index's "
-          "cells) and the bodies' and cells' data fetched from beyond the first-level cache."
+          "in lattice order the chunk shares its building. A profile of the random-order buildings (sampled, "
+          "AVX-512 kernels) puts about a quarter of the time in the field work itself, a quarter in listing each "
+          "lane's bodies (gathering their boxes from the index's cells) and a third in making the slots (each "
+          "lane's body compared with the slot's by field and material, and each lane's pose, box and band "
+          "gathered a float at a time). The faster single-body kernels (AVX-512) make those shares, and the "
+          "ratio, larger."
           % (same_work, "reached" if same_work <= 2.0 else "not reached", literal,
              "reached" if literal <= 2.0 else "not reached", rows[6][0] / rows[5][0], rows[2][0] / rows[0][0]))
 
@@ -388,9 +399,9 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     print("\n**Goal (issue #2): bricked nearest, coherent points, at most %.0f ns per query. Measured: %.1f ns, %s.**"
           % (goal_ns, got, "reached" if got <= goal_ns else "not reached"))
     if got > goal_ns:
-        print("The batch runs in SIMD lanes (8 points per AVX2 instruction), two registers of points at a time so "
-              "that two chains of dependent gathers (brick-top entry, then pool word) overlap; what is left per "
-              "point is those gathers, the normal's decode and the writing of 20-byte `Sample`s.")
+        print("The batch runs in SIMD lanes (32 points per chunk with AVX-512, 8 with AVX2), two chunks of points "
+              "at a time so that their chains of dependent gathers (brick-top entry, then pool word) overlap; what "
+              "is left per point is those gathers, the normal's decode and the writing of 20-byte `Sample`s.")
 
 
     if step_path:

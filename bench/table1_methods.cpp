@@ -43,6 +43,7 @@ const File& fieldOf(const MeshScene& scene, const Case& c) {
 
 std::string caseId(const Case& c) {
   const std::string field = c.dense ? "dngrid_dense_" : c.exact ? "dngrid_bricked_exact_" : "dngrid_bricked_";
+  if (c.avx2) return field + "flow_avx2";
   switch (c.method) {
   case Method::kPlain: return "plain";
   case Method::kNoBody: return "dngrid_nobody";
@@ -61,6 +62,7 @@ std::string caseId(const Case& c) {
 
 std::string caseLabel(const Case& c) {
   const std::string field = c.dense ? "dngrid dense, " : c.exact ? "dngrid bricked exact, " : "dngrid bricked, ";
+  if (c.avx2) return field + "impact+drag+flow, AVX2 lanes";
   switch (c.method) {
   case Method::kPlain: return "no collision (plain loop)";
   case Method::kNoBody: return "dngrid stepParticles, no body";
@@ -87,7 +89,12 @@ Stepper stepperFor(const MeshScene& scene, const Case& c) {
     Body body;
     const View* field = &fieldOf(scene, c).view();
     if (Body::create(field, materialFor(c, scene.voxel), &body) != Status::kOk) return nullptr;
-    return [body](Swarm* s) { stepParticles(s->span(), kDt, &body, 1); };
+    // The kernels are a process-wide choice: each step makes its own (an atomic store).
+    const InstructionSet set = c.avx2 ? InstructionSet::kAvx2 : bestInstructionSet();
+    return [body, set](Swarm* s) {
+      setInstructionSet(set);
+      stepParticles(s->span(), kDt, &body, 1);
+    };
   }
   case Method::kEmbree1:
   case Method::kEmbree4:

@@ -2,6 +2,7 @@
 // the untimed judge that counts its particles' crossings of the mesh.
 #pragma once
 
+#include "dng/instruction_set.h"
 #include "table1_scene.h"
 
 #include <functional>
@@ -34,6 +35,7 @@ struct Case {
   Method method = Method::kPlain;
   bool dense = false; ///< dngrid only: the dense field instead of the bricked one
   bool exact = false; ///< dngrid only: a bricked field baked in exact mode instead of the default normal-blur
+  bool avx2 = false;  ///< dngrid only: the AVX2 kernels instead of the best this CPU has (where that is AVX-512)
 
   bool usesField() const {
     return method == Method::kImpact || method == Method::kImpactDragFlow || method == Method::kImpactDragFlowSwept;

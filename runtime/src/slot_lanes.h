@@ -140,9 +140,9 @@ DNG_LANE_INLINE M relisted(const IndexGrid& g, V3 lo, V3 hi, M moved, const Lane
 /// One chunk's responses and the balls of its moves, slot by slot, for the lanes *io_live (their move
 /// boxes [lo, hi], listed in `lists`). Lanes whose move boxes the responses changed and that now meet a
 /// body their lists lack leave *io_live. Returns the lanes proven clear; *out_end and *out_touch get
-/// every lane's end and touched body.
+/// every lane's end and touched body (and its distance).
 DNG_LANE_INLINE M stepSlots(const StepBatch& batch, const ChunkSlots& slots, const LaneLists& lists, V3 lo, V3 hi,
-                            LaneParticles* io, M* io_live, V3* out_end, I* out_touch) {
+                            LaneParticles* io, M* io_live, V3* out_end, TouchLanes* out_touch) {
   TouchLanes touch = noTouch();
   KeptSample kept[ChunkSlots::kMax];
   for (int k = 0; k < slots.count; ++k) {
@@ -152,7 +152,7 @@ DNG_LANE_INLINE M stepSlots(const StepBatch& batch, const ChunkSlots& slots, con
     else
       respondToBody(slots.each[k], *slots.material[k], 0, batch.dt, on, io, &touch, &kept[k]);
   }
-  *out_touch = touch.body;
+  *out_touch = touch;
   const V3 end = io->position + io->velocity * splat(batch.dt);
   *out_end = end;
   V3 now_lo, now_hi;

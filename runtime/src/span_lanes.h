@@ -91,22 +91,27 @@ struct Deferred {
   static constexpr std::size_t kCapacity = 128; // on the stack (3 KB): stepParticles allocates nothing
   std::size_t count = 0;
   std::size_t index[kCapacity];
-  // The velocities after the responses and the touched bodies, padded to whole registers.
+  // The velocities after the responses, and the bodies they touched at what distance, padded to whole
+  // registers.
   alignas(kLaneAlign) float vx[kCapacity + kWidth], vy[kCapacity + kWidth], vz[kCapacity + kWidth];
   alignas(kLaneAlign) std::int32_t touch[kCapacity + kWidth];
+  alignas(kLaneAlign) float touch_distance[kCapacity + kWidth];
 
   bool full() const { return count + std::size_t(kWidth) > kCapacity; }
 
   // Adds the lanes `on` of chunk n, with their velocities and touches.
-  void add(std::size_t n, V3 velocity, I touched, LaneBits on) {
+  void add(std::size_t n, V3 velocity, const TouchLanes& touched, LaneBits on) {
     Lanes3 v;
     alignas(kLaneAlign) std::int32_t t[kWidth];
+    alignas(kLaneAlign) float d[kWidth];
     store(v.x, velocity.x), store(v.y, velocity.y), store(v.z, velocity.z);
-    std::memcpy(t, &touched, sizeof t);
+    std::memcpy(t, &touched.body, sizeof t);
+    store(d, touched.distance);
     for (; on != 0; on &= on - 1) {
       const int lane = lowestLane(on);
       index[count] = n + std::size_t(lane);
       vx[count] = v.x[lane], vy[count] = v.y[lane], vz[count] = v.z[lane], touch[count] = t[lane];
+      touch_distance[count] = d[lane];
       ++count;
     }
   }
@@ -143,7 +148,7 @@ DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* inde
 }
 
 // Walks the set-aside particles' moves through every body cell by cell (their balls could not prove
-// them) and finishes them: the lanes proven clear move, the rest go to the scalar path whole. The
+// them) and finishes them: the lanes proven clear move, the rest go to the scalar path's move. The
 // responses already acted (their velocities are kept); the walks sample their starts again (the same
 // numbers as the responses' samples).
 DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
@@ -152,7 +157,8 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
   // Whole registers: the last chunk's empty lanes repeat its first particle's numbers (and stay off).
   const std::size_t last = (io->count - 1) / std::size_t(kWidth) * std::size_t(kWidth);
   for (std::size_t k = io->count; k < last + std::size_t(kWidth); ++k)
-    io->vx[k] = io->vx[last], io->vy[k] = io->vy[last], io->vz[k] = io->vz[last], io->touch[k] = io->touch[last];
+    io->vx[k] = io->vx[last], io->vy[k] = io->vy[last], io->vz[k] = io->vz[last], io->touch[k] = io->touch[last],
+    io->touch_distance[k] = io->touch_distance[last];
   NearList listed; // with a broadphase: the bodies of the gathered lanes' moves
   for (std::size_t from = 0; from < io->count; from += std::size_t(kWidth)) {
     const int lanes = int(std::min(io->count - from, std::size_t(kWidth)));
@@ -173,8 +179,11 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
     }
     const LaneBits done = bits(moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
     scatterLanes(s, index, end, *io, from, done);
-    for (LaneBits rest = on & ~done; rest != 0; rest &= rest - 1)
-      batch.scalar(batch.context, index[lowestLane(rest)]);
+    for (LaneBits rest = on & ~done; rest != 0; rest &= rest - 1) { // the scalar path's move, after these responses
+      const std::size_t k = from + std::size_t(lowestLane(rest));
+      batch.scalar_move(batch.context, io->index[k], {io->vx[k], io->vy[k], io->vz[k]}, io->touch[k],
+                        io->touch_distance[k]);
+    }
   }
   io->count = 0;
 }
@@ -183,7 +192,7 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
 /// the lanes (live), and of those the lanes proven clear (done).
 struct ChunkStep {
   V3 end;
-  I touch;
+  TouchLanes touch;
   M live;
   LaneBits done;
 };
@@ -210,7 +219,7 @@ DNG_LANE_INLINE void finishChunk(const StepBatch& batch, std::size_t n, const La
   const ParticleSpan& s = *batch.particles;
   storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, c.end, c.done);
   storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, c.done);
-  storeTouches(s, n, c.touch, c.done);
+  storeTouches(s, n, c.touch.body, c.done);
   const LaneBits later = bits(c.live) & ~c.done; // their walks need cells
   if (later != 0) {
     if (deferred->full()) finishDeferred(batch, deferred);

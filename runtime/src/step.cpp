@@ -278,6 +278,20 @@ void stepOne(const void* context, std::size_t n) {
   writeTouch(particles, n, touch.body);
 }
 
+// stepOne's move alone, after the lanes' responses (StepBatch::scalar_move). Without the responses'
+// samples the walks sample their starts themselves: the same numbers.
+void moveOne(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body, float touch_distance) {
+  const ScalarStep& step = *static_cast<const ScalarStep*>(context);
+  const ParticleSpan& particles = *step.particles;
+  ParticleState state = load(particles, n);
+  state.velocity = velocity;
+  Touch touch;
+  touch.body = touch_body, touch.distance = touch_distance;
+  move(step.bodies, *step.near, *step.motions, step.dt, KeptSamples(), &state, &touch);
+  store(particles, n, state);
+  writeTouch(particles, n, touch.body);
+}
+
 // The batch kernels take up to kMaxBatchBodies bodies, or any number through an index, whose fields
 // they can index; null otherwise.
 const BatchKernels* kernelsFor(const Body* bodies, std::size_t body_count, bool indexed) {
@@ -317,6 +331,7 @@ void stepInLanes(const BatchKernels& kernels, const ScalarStep& scalar, std::siz
   batch.particles = scalar.particles;
   batch.dt = scalar.dt;
   batch.scalar = &stepOne;
+  batch.scalar_move = &moveOne;
   batch.context = &scalar;
   if (body_count > kMaxBatchBodies) { // kernelsFor took it: there is an index
     const IndexGrid grid = gridOf(*index);

@@ -71,7 +71,12 @@ struct StepBatch {
   /// Whether the kernels may gather `prepared`'s numbers: 32-bit lane offsets reach every body's.
   bool gatherable = false;
   void (*scalar)(const void* context, std::size_t n) = nullptr;
-  const void* context = nullptr; ///< for `scalar`
+  /// The scalar path's move alone for particle n, after responses that left it `velocity` and touched
+  /// `touch_body` at `touch_distance` (-1 and +infinity: none): what a lane whose walk needs more than
+  /// the lanes do hands over, without the responses done again.
+  void (*scalar_move)(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body,
+                      float touch_distance) = nullptr;
+  const void* context = nullptr; ///< for `scalar` and `scalar_move`
 };
 
 /// The kernels of one instruction set.

@@ -5,8 +5,9 @@
 // ball around the end covers the rest. Most others are settled cell by cell, each cell's plane proving
 // the way to its wall. Lanes do exactly that, with every operation the scalar step.cpp and walk.cpp do
 // in the same order, so a lane's result is bit for bit the scalar one. A particle that needs anything
-// more (a bounce off a plane during the move, a slide, a neighbour bound) goes to the scalar path
-// whole, from its original state. span_lanes.h runs these kernels over a whole span.
+// more (a bounce off a plane during the move, a slide, a neighbour bound) goes to the scalar path:
+// whole, from its original state, or, once the lanes' responses have acted, to its move alone.
+// span_lanes.h runs these kernels over a whole span.
 #pragma once
 
 #include "body_lanes.h"
@@ -125,11 +126,10 @@ DNG_LANE_INLINE TouchLanes noTouch() { return {splat(std::numeric_limits<float>:
 // The responses of the listed bodies, in body order, for the lanes `live`. Fills the touched body and
 // keeps each body's sample.
 DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, M live, LaneParticles* io,
-                                  I* out_touch_body, KeptLanes* kept) {
-  TouchLanes touch = noTouch();
+                                  TouchLanes* out_touch, KeptLanes* kept) {
+  *out_touch = noTouch();
   for (std::size_t k = 0; k < list.count; ++k)
-    respondToBody(*list.body[k], *list.material[k], list.index[k], batch.dt, live, io, &touch, &kept->body[k]);
-  *out_touch_body = touch.body;
+    respondToBody(*list.body[k], *list.material[k], list.index[k], batch.dt, live, io, out_touch, &kept->body[k]);
 }
 
 // step.cpp segmentNearBounds.
