@@ -3,10 +3,12 @@
 #
 # The sanitizer flags are attached with generator expressions rather than CMAKE_CXX_FLAGS_ASAN: CMake
 # creates that cache entry (empty) as soon as the build type is named, so a cached default never lands.
-set(DNG_SANITIZE_FLAGS -O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all)
+# Line tables only (-g1): the reports' stack traces need no more, and full debug info for the SIMD
+# kernels' inlined code more than doubled their compile times (batch_avx512.cpp: 173 s against 74 s).
+set(DNG_SANITIZE_FLAGS -O1 -g1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all)
 add_compile_options("$<$<CONFIG:ASan>:${DNG_SANITIZE_FLAGS}>")
 add_link_options("$<$<CONFIG:ASan>:-fsanitize=address,undefined>")
-add_compile_options("$<$<CONFIG:TSan>:-O1;-g;-fno-omit-frame-pointer;-fsanitize=thread>")
+add_compile_options("$<$<CONFIG:TSan>:-O1;-g1;-fno-omit-frame-pointer;-fsanitize=thread>")
 add_link_options("$<$<CONFIG:TSan>:-fsanitize=thread>")
 
 # dng_target_warnings(<target>): -Wall -Wextra and friends; -Werror when DNG_WERROR is on.

@@ -225,10 +225,9 @@ DNG_LANE_INLINE void finishChunk(const StepBatch& batch, std::size_t n, const La
     if (deferred->full()) finishDeferred(batch, deferred);
     deferred->add(n, p.velocity, c.touch, later);
   }
-  const LaneBits rest = allLanes() & ~bits(c.live); // lanes whose bodies the lists could not hold
-  for (int lane = 0; lane < kWidth; ++lane) {
-    if ((rest >> lane) & 1u) batch.scalar(batch.context, n + std::size_t(lane));
-  }
+  // The lanes whose bodies the lists could not hold.
+  for (LaneBits rest = allLanes() & ~bits(c.live); rest != 0; rest &= rest - 1)
+    batch.scalar(batch.context, n + std::size_t(lowestLane(rest)));
 }
 
 DNG_LANE_INLINE LaneParticles loadChunk(const ParticleSpan& s, std::size_t n) {

@@ -1,10 +1,10 @@
 // Which SIMD instruction set View::sampleBatch (all three modes) and stepParticles use.
 //
-// The runtime carries its batch kernels for SSE4.1 (4 lanes), AVX2 (8 lanes) and AVX-512 (32 lanes, two registers of 16) on x86-64, where it
-// picks the best one the CPU supports the first time it needs one, and for NEON (4 lanes) on aarch64. Every kernel
-// gives bit for bit the result of the scalar code, which stays the reference and the fallback (other CPUs, and the
-// cases the kernels hand back: docs/RUNTIME.md, "SIMD"). Choosing a set is for tests and benchmarks; the results do not
-// depend on it.
+// The runtime carries its batch kernels for SSE4.1 (4 lanes), AVX2 (8 lanes) and AVX-512 (32 lanes, two registers of
+// 16) on x86-64, where it picks the best one the CPU supports the first time it needs one, and for NEON (4 lanes) on
+// aarch64. Every kernel gives bit for bit the result of the scalar code, which stays the reference and the fallback
+// (other CPUs, and the cases the kernels hand back: docs/RUNTIME.md, "SIMD"). Choosing a set is for tests and
+// benchmarks; the results do not depend on it.
 #pragma once
 
 #include "dng/status.h"
