@@ -6,11 +6,6 @@
 namespace dng {
 
 extern const BatchKernels kAvx2Kernels;
-const BatchKernels kAvx2Kernels = {"avx2",
-                                   &lanes::avx2::sampleNearestBatch,
-                                   &lanes::avx2::sampleTrilinearBatch,
-                                   &lanes::avx2::sampleAccurateBatch,
-                                   &lanes::avx2::stepLanes,
-                                   &lanes::avx2::neighbourBound};
+const BatchKernels kAvx2Kernels = lanes::avx2::kernelTable("avx2");
 
 } // namespace dng

@@ -6,11 +6,6 @@
 namespace dng {
 
 extern const BatchKernels kAvx512Kernels;
-const BatchKernels kAvx512Kernels = {"avx512",
-                                     &lanes::avx512::sampleNearestBatch,
-                                     &lanes::avx512::sampleTrilinearBatch,
-                                     &lanes::avx512::sampleAccurateBatch,
-                                     &lanes::avx512::stepLanes,
-                                     &lanes::avx512::neighbourBound};
+const BatchKernels kAvx512Kernels = lanes::avx512::kernelTable("avx512");
 
 } // namespace dng

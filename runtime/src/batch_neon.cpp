@@ -6,11 +6,6 @@
 namespace dng {
 
 extern const BatchKernels kNeonKernels;
-const BatchKernels kNeonKernels = {"neon",
-                                   &lanes::neon::sampleNearestBatch,
-                                   &lanes::neon::sampleTrilinearBatch,
-                                   &lanes::neon::sampleAccurateBatch,
-                                   &lanes::neon::stepLanes,
-                                   &lanes::neon::neighbourBound};
+const BatchKernels kNeonKernels = lanes::neon::kernelTable("neon");
 
 } // namespace dng

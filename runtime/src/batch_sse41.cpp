@@ -6,11 +6,6 @@
 namespace dng {
 
 extern const BatchKernels kSse41Kernels;
-const BatchKernels kSse41Kernels = {"sse4.1",
-                                    &lanes::sse41::sampleNearestBatch,
-                                    &lanes::sse41::sampleTrilinearBatch,
-                                    &lanes::sse41::sampleAccurateBatch,
-                                    &lanes::sse41::stepLanes,
-                                    &lanes::sse41::neighbourBound};
+const BatchKernels kSse41Kernels = lanes::sse41::kernelTable("sse4.1");
 
 } // namespace dng

@@ -279,6 +279,11 @@ inline void stepLanes(const StepBatch& batch) {
     batch.scalar(batch.context, n);
 }
 
+/// This set's table of kernels (step_batch.h), under `name`: what each batch_*.cpp exports.
+constexpr BatchKernels kernelTable(const char* name) {
+  return {name, &sampleNearestBatch, &sampleTrilinearBatch, &sampleAccurateBatch, &stepLanes, &neighbourBound};
+}
+
 } // namespace DNG_LANES_NS
 } // namespace lanes
 } // namespace dng
