@@ -409,7 +409,7 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     print("\n**Goal (issue #2): bricked nearest, coherent points, at most %.0f ns per query. Measured: %.1f ns, %s.**"
           % (goal_ns, got, "reached" if got <= goal_ns else "not reached"))
     if got > goal_ns:
-        print("The batch runs in SIMD lanes (32 points per chunk with AVX-512, 8 with AVX2), two chunks of points "
+        print("The batch runs in SIMD lanes (32 points per chunk with AVX-512, 16 with AVX2), two chunks of points "
               "at a time so that their chains of dependent gathers (brick-top entry, then pool word) overlap; what "
               "is left per point is those gathers, the normal's decode and the writing of 20-byte `Sample`s.")
 

@@ -1,7 +1,7 @@
 // Internal: a small SIMD layer for the batch kernels, in the spirit of Jolt's Vec4/Vec8. One interface
 // serves every instruction set: the translation unit that includes this header defines
-// DNG_LANES_AVX512 (32 lanes in two registers), DNG_LANES_AVX2 (8 lanes), DNG_LANES_SSE41 (4 lanes) or DNG_LANES_NEON
-// (4 lanes, aarch64) and is
+// DNG_LANES_AVX512 (32 lanes in two registers), DNG_LANES_AVX2 (16 lanes in two registers), DNG_LANES_SSE41 (4 lanes)
+// or DNG_LANES_NEON (4 lanes, aarch64) and is
 // compiled for that set (runtime/CMakeLists.txt). Each set gets its own namespace, so the builds of
 // the kernels never meet at link time.
 //
@@ -22,7 +22,9 @@
 
 #if defined(DNG_LANES_AVX512)
 #include "lanes_avx512.h"
-#elif defined(DNG_LANES_AVX2) || defined(DNG_LANES_SSE41)
+#elif defined(DNG_LANES_AVX2)
+#include "lanes_avx2_pair.h"
+#elif defined(DNG_LANES_SSE41)
 #include "lanes_x86.h"
 #elif defined(DNG_LANES_NEON)
 #include "lanes_neon.h"

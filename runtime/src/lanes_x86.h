@@ -1,5 +1,5 @@
-// Internal: the x86 lanes of lanes.h, for SSE4.1 (4 lanes) and AVX2 (8 lanes). Include lanes.h, not
-// this file.
+// Internal: the x86 lanes of lanes.h, for SSE4.1 (4 lanes) and AVX2 (8 lanes, which lanes_avx2_pair.h
+// takes two at a time). Include lanes.h, not this file.
 #pragma once
 
 #include <cstdint>

@@ -1,10 +1,10 @@
 // Which SIMD instruction set View::sampleBatch (all three modes) and stepParticles use.
 //
-// The runtime carries its batch kernels for SSE4.1 (4 lanes), AVX2 (8 lanes) and AVX-512 (32 lanes, two registers of
-// 16) on x86-64, where it picks the best one the CPU supports the first time it needs one, and for NEON (4 lanes) on
-// aarch64. Every kernel gives bit for bit the result of the scalar code, which stays the reference and the fallback
-// (other CPUs, and the cases the kernels hand back: docs/RUNTIME.md, "SIMD"). Choosing a set is for tests and
-// benchmarks; the results do not depend on it.
+// The runtime carries its batch kernels for SSE4.1 (4 lanes), AVX2 (16 lanes, two registers of 8) and AVX-512 (32
+// lanes, two registers of 16) on x86-64, where it picks the best one the CPU supports the first time it needs one, and
+// for NEON (4 lanes) on aarch64. Every kernel gives bit for bit the result of the scalar code, which stays the
+// reference and the fallback (other CPUs, and the cases the kernels hand back: docs/RUNTIME.md, "SIMD"). Choosing a set
+// is for tests and benchmarks; the results do not depend on it.
 #pragma once
 
 #include "dng/status.h"
@@ -16,7 +16,7 @@ namespace dng {
 enum class InstructionSet : std::uint32_t {
   kScalar = 0, ///< one particle at a time: the reference
   kSse41 = 1,  ///< x86-64 SSE4.1, 4 lanes
-  kAvx2 = 2,   ///< x86-64 AVX2, 8 lanes
+  kAvx2 = 2,   ///< x86-64 AVX2, 16 lanes: two registers of 8 side by side
   kNeon = 3,   ///< aarch64 Advanced SIMD, 4 lanes
   kAvx512 = 4, ///< x86-64 AVX-512 (F, DQ, BW, VL), 32 lanes: two registers of 16 side by side
 };
