@@ -265,31 +265,30 @@ struct ScalarStep {
   const BodyMotions* motions;
 };
 
+// The end of a particle's step: its move after the responses, then its state and touched body written.
+void moveAndStore(const ScalarStep& step, std::size_t n, const KeptSamples& kept, ParticleState state, Touch touch) {
+  move(step.bodies, *step.near, *step.motions, step.dt, kept, &state, &touch);
+  store(*step.particles, n, state);
+  writeTouch(*step.particles, n, touch.body);
+}
+
 void stepOne(const void* context, std::size_t n) {
   const ScalarStep& step = *static_cast<const ScalarStep*>(context);
-  const ParticleSpan& particles = *step.particles;
-  ParticleState state = load(particles, n);
+  ParticleState state = load(*step.particles, n);
   Touch touch;
   KeptSamples kept;
   step.near->forEach(state.position, state.position, BodyBox::kBounds,
                      [&](std::size_t b) { respondToBody(step.bodies[b], b, step.dt, &state, &touch, &kept); });
-  move(step.bodies, *step.near, *step.motions, step.dt, kept, &state, &touch);
-  store(particles, n, state);
-  writeTouch(particles, n, touch.body);
+  moveAndStore(step, n, kept, state, touch);
 }
 
 // stepOne's move alone, after the lanes' responses (StepBatch::scalar_move). Without the responses'
 // samples the walks sample their starts themselves: the same numbers.
 void moveOne(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body, float touch_distance) {
   const ScalarStep& step = *static_cast<const ScalarStep*>(context);
-  const ParticleSpan& particles = *step.particles;
-  ParticleState state = load(particles, n);
+  ParticleState state = load(*step.particles, n);
   state.velocity = velocity;
-  Touch touch;
-  touch.body = touch_body, touch.distance = touch_distance;
-  move(step.bodies, *step.near, *step.motions, step.dt, KeptSamples(), &state, &touch);
-  store(particles, n, state);
-  writeTouch(particles, n, touch.body);
+  moveAndStore(step, n, KeptSamples(), state, Touch{touch_body, touch_distance});
 }
 
 // The batch kernels take up to kMaxBatchBodies bodies, or any number through an index, whose fields
