@@ -36,7 +36,8 @@ void addExtras(Extras extras, format::DenseField* io) {
   if (extras == Extras::kNone) return;
   if (extras == Extras::kSecondPlanes) {
     // Planes lowered by up to half a voxel, and the unlowered ones beside them: alone, or every third as
-    // a pair with the own plane raised back (the lanes leave pairs to the scalar walk).
+    // a pair with the own plane raised back and the second one tilted, so that either of the two may be
+    // the lower one and the other one may stop a walk first (the lanes step through pairs too).
     const float band = io->grid.band;
     io->second_distance.assign(io->distance.size(), -std::numeric_limits<float>::infinity());
     io->second_normal.assign(io->distance.size(), Vec3f{});
@@ -45,7 +46,11 @@ void addExtras(Extras extras, format::DenseField* io) {
       if (!(std::fabs(io->distance[n]) < band)) continue;
       const float lowering = 0.3f + 0.2f * std::sin(0.37f * float(n));
       io->second_distance[n] = io->distance[n] + (n % 3 == 0 ? 0.2f : 0.0f), io->second_normal[n] = io->normal[n];
-      if (n % 3 == 0) io->second_raise[n] = lowering;
+      if (n % 3 == 0) {
+        io->second_raise[n] = lowering;
+        const Vec3f tilt{0.7f * std::cos(0.23f * float(n)), -0.6f, 0.7f * std::sin(0.19f * float(n))};
+        io->second_normal[n] = normalizeOrZero(io->normal[n] + tilt);
+      }
       io->distance[n] -= lowering;
     }
     return;

@@ -206,12 +206,21 @@ DNG_LANE_INLINE F cellExit(const GridInfo& g, float inv_h, V3 a, V3 d, F t) {
 /// cells (the first ball, then cell by cell) for lanes whose balls could not prove them.
 enum class WalkPart { kBalls, kCells };
 
+/// The other plane of a second bound that is a pair of planes (ViewInternals::OtherPlane), per lane:
+/// beside a concave crease the smaller of the two bounds the distance, so a walk stops where the first
+/// of them reaches the margin. Present in the lanes of `present` only.
+struct OtherLanes {
+  M present;
+  F distance;
+  V3 normal;
+};
+
 // ViewInternals::secondBound for the lanes of `m` (the rest keep `s`): one lane at a time, the scalar
 // function itself, since second bounds are read only where a cell's own plane stops or fails a walk.
-// The lanes whose bound is a pair of planes go to *out_pairs: one plane per lane is all the lanes' cell
-// steps take, so those need the scalar walk (their values bound the distance all the same).
-DNG_LANE_INLINE LaneSample secondBoundLanes(const View& field, V3 p, const LaneSample& s, M m, M* out_pairs) {
+// The other plane of the lanes whose bound is a pair goes to *out_other.
+DNG_LANE_INLINE LaneSample secondBoundLanes(const View& field, V3 p, const LaneSample& s, M m, OtherLanes* out_other) {
   alignas(kLaneAlign) float px[kWidth], py[kWidth], pz[kWidth], d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
+  alignas(kLaneAlign) float od[kWidth] = {}, onx[kWidth] = {}, ony[kWidth] = {}, onz[kWidth] = {};
   store(px, p.x), store(py, p.y), store(pz, p.z), store(d, s.distance);
   store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
   LaneBits in_band = 0, far_outside = 0, far_inside = 0, pairs = 0;
@@ -224,13 +233,14 @@ DNG_LANE_INLINE LaneSample secondBoundLanes(const View& field, V3 p, const LaneS
     ViewInternals::OtherPlane other;
     const Sample better = ViewInternals::secondBound(field, {px[lane], py[lane], pz[lane]}, first, &other);
     d[lane] = better.distance, nx[lane] = better.normal.x, ny[lane] = better.normal.y, nz[lane] = better.normal.z;
+    od[lane] = other.distance, onx[lane] = other.normal.x, ony[lane] = other.normal.y, onz[lane] = other.normal.z;
     pairs |= LaneBits(other.present) << lane;
     in_band |= LaneBits(better.status == SampleStatus::kInBand) << lane;
     far_outside |= LaneBits(better.status == SampleStatus::kFarOutside) << lane;
     far_inside |= LaneBits(better.status == SampleStatus::kFarInside) << lane;
   }
   const M on = m & ~(s.no_field); // secondBound answers in-band samples only; the rest keep theirs
-  *out_pairs = on & laneMask(pairs);
+  *out_other = {on & laneMask(pairs), load(od), {load(onx), load(ony), load(onz)}};
   LaneSample out = s;
   out.distance = select(on, load(d), s.distance);
   out.normal = select(on, V3{load(nx), load(ny), load(nz)}, s.normal);
@@ -249,8 +259,10 @@ struct CellLanes {
   M nothing(M live) const { return andNot(andNot(andNot(andNot(live, covers), far), stop), to_wall); }
 };
 
+// `other`, when not null, is the other plane of the lanes whose `s` is the lower of a pair (planCell's).
 DNG_LANE_INLINE CellLanes planCellLanes(const GridInfo& g, float inv_h, V3 a, V3 delta, F t, F t_end, F len,
-                                        const LaneSample& s, M live, F reach, F margin, F proof, F roomy) {
+                                        const LaneSample& s, const OtherLanes* other, M live, F reach, F margin,
+                                        F proof, F roomy) {
   const F zero = splat(0.0f);
   CellLanes c;
   const F q = select(s.far_inside, zero - reach, minOf(reach, s.distance));
@@ -262,12 +274,20 @@ DNG_LANE_INLINE CellLanes planCellLanes(const GridInfo& g, float inv_h, V3 a, V3
   live = andNot(live, c.covers);
   c.far = live & s.far_outside; // a ball that does not reach the end: step on by it
   live = andNot(live, c.far);
-  // Inside one cell the field is the cell's plane.
+  // Inside one cell the field is the cell's plane (or the smaller of a pair).
   const F rate = select(s.in_band, dot(s.normal, delta), zero);
   c.exit = cellExit(g, inv_h, a, delta, t);
-  const F hit = t + c.gap / (zero - rate);
-  c.stop = live & (rate < zero) & (c.gap >= zero) & (hit < c.exit) & (hit < t_end);
-  c.to_wall = andNot(live, c.stop) & ((c.gap >= zero) | ((rate >= zero) & (q >= proof) & s.in_band));
+  const M approaching = (rate < zero) & (c.gap >= zero);
+  F hit = select(approaching, t + c.gap / (zero - rate), splat(std::numeric_limits<float>::infinity()));
+  M rising = (rate >= zero) & (q >= proof) & s.in_band;
+  if (other != nullptr) { // the pair's other plane stops the walk where it reaches the margin first
+    const F other_rate = select(other->present, dot(other->normal, delta), zero);
+    const F other_hit = t + (minOf(reach, other->distance) - margin) / (zero - other_rate);
+    hit = select((other_rate < zero) & (c.gap >= zero) & (other_hit < hit), other_hit, hit);
+    rising = rising & (other_rate >= zero);
+  }
+  c.stop = live & (hit < c.exit) & (hit < t_end);
+  c.to_wall = andNot(live, c.stop) & ((c.gap >= zero) | rising);
   c.through = c.to_wall & (c.exit >= t_end);
   c.next = andNot(c.to_wall, c.through);
   return c;
@@ -287,8 +307,8 @@ DNG_LANE_INLINE M endProven(const View& field, V3 end, const LaneSample& e, M m,
   M proven = m & (e.far_outside | e.no_field | (e.in_band & (e.distance >= proof)));
   const M second = andNot(m & e.in_band, proven);
   if (ViewInternals::hasSecondPlanesFast(field) && any(second)) {
-    M pairs;
-    const LaneSample better = secondBoundLanes(field, end, e, second, &pairs);
+    OtherLanes unused;
+    const LaneSample better = secondBoundLanes(field, end, e, second, &unused);
     proven = proven | (second & (better.far_outside | (better.distance >= proof)));
   }
   return proven;
@@ -350,17 +370,18 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
     const M no_field = active & here.no_field; // rounding at a face of the grid: step on
     t = select(no_field, t + nudge, t);
     const M live = andNot(active, no_field);
-    CellLanes c = planCellLanes(g, inv_h, a, delta, t, t_end, len, here, live, reach, margin, proof, roomy);
-    // Where the cell's plane stops the walk or proves nothing, its second bound may read higher. A pair
-    // of planes leaves its lane stopped or unproven here, for the scalar walk.
+    CellLanes c = planCellLanes(g, inv_h, a, delta, t, t_end, len, here, nullptr, live, reach, margin, proof, roomy);
+    // Where the cell's plane stops the walk or proves nothing, its second bound may read higher.
     const M retry = (c.stop | c.nothing(live)) & here.in_band;
     if (second_planes && any(retry)) {
-      M pairs;
-      const LaneSample better = secondBoundLanes(field, p, here, retry, &pairs);
-      const M upgraded = andNot(retry & (better.distance > here.distance), pairs);
-      if (any(upgraded))
-        c = merge(upgraded,
-                  planCellLanes(g, inv_h, a, delta, t, t_end, len, better, upgraded, reach, margin, proof, roomy), c);
+      OtherLanes other;
+      const LaneSample better = secondBoundLanes(field, p, here, retry, &other);
+      const M upgraded = retry & (better.distance > here.distance);
+      if (any(upgraded)) {
+        const CellLanes second =
+            planCellLanes(g, inv_h, a, delta, t, t_end, len, better, &other, upgraded, reach, margin, proof, roomy);
+        c = merge(upgraded, second, c);
+      }
     }
     // One ball covers the rest: clear when it leaves room, or when the end proves itself outside.
     clear = clear | c.roomy_end;
