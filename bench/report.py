@@ -228,7 +228,9 @@ def table1_section(path, table_mesh="fandisk"):
           "(beside concave creases) are stepped in lanes; handed over, they had been about 60% of the scalar "
           "walks and 0.7% of particle-steps. On the sweep's detailed meshes 2-4% of particle-steps are handed "
           "over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and the scalar walks "
-          "are 40-50% of the time: that is why those meshes cost about twice "
+          "take up to about 40% of the time (dragon_res4: a third of their cycles on spawn points never proven "
+          "outside, and the 26-sample neighbour bound about a fifth of the step): that is why those meshes cost "
+          "about twice "
           "fandisk's. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
           "what the field pays is fixed per sample.")
 
