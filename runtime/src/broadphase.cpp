@@ -141,6 +141,7 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
     boxes[b].box[int(BodyBox::kBounds)] = {lo, hi};
     const Box grown{{lo.x - t, lo.y - t, lo.z - t}, {hi.x + t, hi.y + t, hi.z + t}};
     boxes[b].box[int(BodyBox::kGrown)] = grown;
+    boxes[b].grown_differs = std::memcmp(&grown, &boxes[b].box[int(BodyBox::kBounds)], sizeof grown) != 0;
     if (!finite(grown.lo) || !finite(grown.hi)) {
       everywhere.push_back(std::uint32_t(b));
       continue;

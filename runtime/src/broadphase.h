@@ -66,6 +66,9 @@ enum class BodyBox { kBounds = 0, kGrown = 1 };
 /// A body's two boxes in one cache line: a particle's response reads one, its move the other.
 struct alignas(64) BodyBoxes {
   Box box[2]; // by BodyBox
+  /// 0 when the grown box is the box, bit for bit (a body that does not move: its travel is 0), so the
+  /// lanes that read one need not read the other (near_lanes.h); else 1.
+  std::uint32_t grown_differs;
 };
 
 struct BodyIndex::Impl {

@@ -304,6 +304,33 @@ DNG_LANE_INLINE void gatherBox(const IndexGrid& g, I body, BodyBox which, M m, V
   *out_hi = {gather(f[3], at, m), gather(f[4], at, m), gather(f[5], at, m)};
 }
 
+// The lanes of `m` whose boxes [lo, hi] NearBodies::forEach would not drop against their body's grown
+// box, read into *out_lo and *out_hi for those lanes. Axis by axis: about one lane in six meets the
+// body its cell lists (counted on bench/many_bodies_bench's city), most miss it along x or y, and the
+// next axis's gathers read only the lanes still in (random order: 38.9 -> 36.9 ns per particle).
+DNG_LANE_INLINE M meetsGrownBox(const IndexGrid& g, I body, M m, V3 lo, V3 hi, V3* out_lo, V3* out_hi) {
+  constexpr auto stride = std::int32_t(sizeof(BodyBoxes) / sizeof(float));
+  const float* base = reinterpret_cast<const float*>(g.boxes) + 6 * int(BodyBox::kGrown);
+  const I at = body * splatI(stride);
+  *out_lo = *out_hi = splat(0.0f, 0.0f, 0.0f); // what lanes dropped early read
+  out_lo->x = gather(base, at, m), out_hi->x = gather(base + 3, at, m);
+  m = m & ~((hi.x < out_lo->x) | (lo.x > out_hi->x));
+  if (!any(m)) return m;
+  out_lo->y = gather(base + 1, at, m), out_hi->y = gather(base + 4, at, m);
+  m = m & ~((hi.y < out_lo->y) | (lo.y > out_hi->y));
+  if (!any(m)) return m;
+  out_lo->z = gather(base + 2, at, m), out_hi->z = gather(base + 5, at, m);
+  return m & ~((hi.z < out_lo->z) | (lo.z > out_hi->z));
+}
+
+// BodyBoxes::grown_differs per lane (lanes off `m` read 0).
+DNG_LANE_INLINE I gatherGrownDiffers(const IndexGrid& g, I body, M m) {
+  constexpr auto stride = std::int32_t(sizeof(BodyBoxes) / sizeof(std::uint32_t));
+  const auto* base = reinterpret_cast<const std::uint32_t*>(reinterpret_cast<const char*>(g.boxes) +
+                                                            offsetof(BodyBoxes, grown_differs));
+  return gather(base, body * splatI(stride), m);
+}
+
 // The lists of the lanes `listed`, each in the scene with its box in one cell (and no body listed
 // everywhere): the j-th body of every lane's cell at once, gathered and tested against its lane. Cells
 // list their bodies in increasing index, so each lane's come in order. Every other lane gets an empty
@@ -323,11 +350,16 @@ DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, V3 lo, V3 hi, V3 at, M lis
     if (!any(has)) break;
     const I b = gather(g.cell_bodies, start + splatI(j), has);
     V3 box_lo, box_hi;
-    gatherBox(g, b, BodyBox::kGrown, has, &box_lo, &box_hi);
-    const M meet = has & ~((hi.x < box_lo.x) | (hi.y < box_lo.y) | (hi.z < box_lo.z) | (lo.x > box_hi.x) |
-                           (lo.y > box_hi.y) | (lo.z > box_hi.z));
+    const M meet = meetsGrownBox(g, b, has, lo, hi, &box_lo, &box_hi);
     if (!any(meet)) continue;
-    gatherBox(g, b, BodyBox::kBounds, meet, &box_lo, &box_hi);
+    // The boxes of bodies that do not move are their grown boxes, just read: one gather for the flag
+    // instead of six for the box (a city's buildings: 42.3 -> 38.9 ns per particle, the same bench).
+    const M differs = andNot(meet, gatherGrownDiffers(g, b, meet) == splatI(0));
+    if (any(differs)) {
+      V3 bounds_lo, bounds_hi;
+      gatherBox(g, b, BodyBox::kBounds, differs, &bounds_lo, &bounds_hi);
+      box_lo = select(differs, bounds_lo, box_lo), box_hi = select(differs, bounds_hi, box_hi);
+    }
     const M inside = meet & ~((at.x < box_lo.x) | (at.y < box_lo.y) | (at.z < box_lo.z) | (at.x > box_hi.x) |
                               (at.y > box_hi.y) | (at.z > box_hi.z));
     full = full | (meet & (count == splatI(LaneLists::kMax)));
