@@ -331,11 +331,13 @@ def bodies_section(path):
           "each lane of a chunk lists its own bodies, and the chunk steps them slot by slot: in random order the "
           "lanes' different buildings (one field, one material) run in one pass with each lane's body gathered; "
           "in lattice order the chunk shares its building. A profile of the random-order buildings (sampled, "
-          "AVX-512 kernels) puts about a quarter of the time in the field work itself, a quarter in listing each "
-          "lane's bodies (gathering their boxes from the index's cells) and a third in making the slots, most of "
-          "it each lane's pose, box and band gathered a float at a time (comparing the lanes' fields and materials "
-          "with the slot's measured at no visible cost: a build without the material compare ran the same). The "
-          "faster single-body kernels (AVX-512) make those shares, and the ratio, larger."
+          "AVX-512 kernels) puts about a quarter of the time in the field work itself (the responses' samples "
+          "and the walks), about 30%% in listing each lane's bodies (gathering their grown boxes from the index's "
+          "cells, axis by axis; about one lane in six meets the body its cell lists), about a quarter in making "
+          "the slots, most of it each lane's pose, box and band gathered a float at a time (comparing the lanes' "
+          "fields and materials with the slot's measured at no visible cost: a build without the material compare "
+          "ran the same), and about a tenth where each chunk's particles are loaded. The faster single-body "
+          "kernels (AVX-512) make those shares, and the ratio, larger."
           % (same_work, "reached" if same_work <= 2.0 else "not reached", literal,
              "reached" if literal <= 2.0 else "not reached", rows[6][0] / rows[5][0], rows[2][0] / rows[0][0]))
 
