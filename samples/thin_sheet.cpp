@@ -6,11 +6,14 @@
 //   dng_thin_sheet blade.dng [OUTPUT_FOLDER] [--particles N] [--no-pictures]
 //
 // Writes OUTPUT_FOLDER/thin_sheet_side.png and _top.png and prints two JSON lines: the run's statistics,
-// and how many particles crossed. Exits 1 if one crossed or ended inside by the field (2 when the file
-// cannot be read). A normal-blur bake (method 1) stops them too: its normals point one way ("works
-// towards one direction"), but its planes are the distance's own (format 1.3). A field whose planes
-// all face one way lets them through (tests/samples_test.cpp). Units: the sheet's own; 60 steps per
-// second.
+// and how many particles crossed. Exits 1 if one crossed (2 when the file cannot be read). A sheet has
+// no inside, so `inside` (where the field reads below zero, as every sample counts it) is reported but
+// not judged: beside a sheet thinner than a voxel the conservative planes may read below zero in front
+// of it (blade.off at resolution 128: 1 of 4,000 particles, stopped about 0.03 voxel in front of its
+// triangles where the field reads -0.66 voxel). A normal-blur bake (method 1) stops them too: its
+// normals point one way ("works towards one direction"), but its planes are the distance's own (format
+// 1.3). A field whose planes all face one way lets them through (tests/samples_test.cpp). Units: the
+// sheet's own; 60 steps per second.
 #include "sample_io.h"
 
 #include "dng/file.h"
@@ -153,7 +156,8 @@ int main(int argc, char** argv) {
   }
   trails.write();
 
-  // "Inside" as the field sees it: where it reads below zero (the same count as every other sample's).
+  // "Inside" as the field sees it: where it reads below zero (the same count as every other sample's);
+  // reported only, as a sheet has no inside (see the top of this file).
   std::size_t inside = 0, crossed_count = 0;
   for (std::size_t n = 0; n < crossed.size(); ++n) {
     const dng::Sample s = field.sample(particles.position(n));
@@ -165,5 +169,5 @@ int main(int argc, char** argv) {
               count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
               (unsigned long long)contacts, inside);
   std::printf("{\"sample\":\"thin_sheet\",\"crossed\":%zu}\n", crossed_count);
-  return crossed_count == 0 && inside == 0 ? 0 : 1;
+  return crossed_count == 0 ? 0 : 1;
 }
