@@ -1,6 +1,8 @@
-// Body placement: transform checks and decomposition, world bounds.
+// Body placement: transform checks and decomposition, world bounds; whether the step can move a
+// particle from a point.
 #include "dng/body.h"
 #include "diagnostic.h"
+#include "walk.h"
 
 #include <cmath>
 
@@ -97,6 +99,11 @@ Status Body::setTransform(Vec3f t, const float q[4], float scale, Diagnostic* ou
   const float m[12] = {scale * r[0], scale * r[1], scale * r[2], t.x,          scale * r[3], scale * r[4],
                        scale * r[5], t.y,          scale * r[6], scale * r[7], scale * r[8], t.z};
   return setTransform(m, out_diag);
+}
+
+bool Body::provesOutside(Vec3f p) const {
+  if (field_ == nullptr || !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return false;
+  return walkProvesOutside(*field_, toLocal(p)); // the step's start-of-step frame is the transform's
 }
 
 void Body::updateBounds() {

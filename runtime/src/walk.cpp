@@ -256,6 +256,10 @@ bool twoBallsClear(const Sample& start, const Sample& end, float reach, float ma
 
 } // namespace
 
+bool walkProvesOutside(const View& field, Vec3f p) {
+  return provable(field, field.guaranteedReach(), walkProofLevel(field), p, planeAt(field, p));
+}
+
 WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first, float margin, int max_samples) {
   const GridInfo& g = field.grid();
   const float len = length(d);

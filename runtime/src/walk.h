@@ -54,6 +54,11 @@ struct NeighbourPoints {
   alignas(64) float x[kPadded], y[kPadded], z[kPadded], gap[kPadded];
 };
 
+/// Whether a walk from the local point `p` can leave it: its own plane, its second bound or a
+/// neighbour's bound reads at least walkProofLevel there, or the point is beyond the field's band or
+/// grid. walkSegment blocks a start where this is false in every direction (but in far inside voxels).
+bool walkProvesOutside(const View& field, Vec3f p);
+
 /// Walks the local segment a -> a + delta through `field`, keeping at least `margin` (local units)
 /// between the path and the surface as far as the field can prove it. `first`, when not null, is the
 /// field's sample at `a` (the step already took it for the particle's response). A start point the

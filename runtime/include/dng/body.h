@@ -106,6 +106,14 @@ public:
   Vec3f toWorld(Vec3f local) const { return translation_ + rotateToWorld(local * scale_); }
   /// Velocity of the body's material point at world position `p`.
   Vec3f surfaceVelocity(Vec3f p) const { return linear_velocity_ + cross(angular_velocity_, p - translation_); }
+  /// Whether stepParticles can move a particle placed at the world point `p` by this body: the field
+  /// proves the point outside the surface (a plane of its cell, its second bound or a neighbouring
+  /// cell's bound reads at least a hundredth of a voxel there), or the point is beyond the field. A
+  /// particle placed where this is false never moves (docs/RUNTIME.md, "Limits"), so an emitter can test
+  /// its spawn points against each body and move them out or drop them. False for points inside and for
+  /// a non-finite `p`; the answer depends on the transform, not on the velocities or the material (a
+  /// Response::kNone body blocks nothing, whatever this says).
+  bool provesOutside(Vec3f p) const;
 
 private:
   void updateBounds();
