@@ -210,6 +210,7 @@ static void test_scene_queries(const dng_field* box) {
   const float right[12] = {1, 0, 0, 30, 0, 1, 0, 0, 0, 0, 1, 0};
   float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   float px = 30.0f + 6.25f + 0.5f, py = 0.0f, pz = 0.0f, vx = -20.0f, vy = 0.0f, vz = 0.0f;
+  const float beside[3] = {30.0f + 6.25f + 0.5f, 0.0f, 0.0f}, centre[3] = {30.0f, 0.0f, 0.0f};
   uint8_t contact = 0;
   int32_t touched = -7;
   dng_scene* scene = NULL;
@@ -232,6 +233,13 @@ static void test_scene_queries(const dng_field* box) {
   CHECK(dng_scene_body_bounds(scene, 2, lo, hi) == DNG_INVALID_ARGUMENT);
   CHECK(lo[0] == 18.0f); /* untouched on failure */
   CHECK(dng_scene_body_enabled(scene, a) == 1 && dng_scene_body_enabled(scene, 5) == -1);
+  /* Spawn points: half a unit outside the right box's +x face is proven outside, its centre is not. */
+  CHECK(dng_scene_body_proves_outside(scene, b, beside) == 1);
+  CHECK(dng_scene_body_proves_outside(scene, b, centre) == 0);
+  CHECK(dng_scene_body_proves_outside(scene, a, beside) == 1); /* the left box is far away */
+  CHECK(dng_scene_body_proves_outside(NULL, b, beside) == -1);
+  CHECK(dng_scene_body_proves_outside(scene, 2, beside) == -1);
+  CHECK(dng_scene_body_proves_outside(scene, b, NULL) == -1);
 
   /* A particle half a unit outside the right box's +x face, moving in. */
   memset(&one, 0, sizeof one);

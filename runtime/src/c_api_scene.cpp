@@ -159,6 +159,11 @@ dng_status dng_scene_body_bounds(const dng_scene* scene, uint32_t body, float ou
   return DNG_OK;
 }
 
+int32_t dng_scene_body_proves_outside(const dng_scene* scene, uint32_t body, const float point[3]) {
+  if (scene == nullptr || body >= scene->bodies.size() || point == nullptr) return -1;
+  return scene->bodies[body].provesOutside({point[0], point[1], point[2]}) ? 1 : 0;
+}
+
 dng_status dng_scene_prepare_step(dng_scene* scene, float dt, char* out_message, size_t capacity) {
   if (scene == nullptr) return fail(dng::Status::kInvalidArgument, "scene must not be NULL", out_message, capacity);
   dng::Diagnostic diag;

@@ -216,6 +216,11 @@ DNG_API int32_t dng_scene_body_enabled(const dng_scene* scene, uint32_t body);
 /** The body's world-space axis-aligned bounding box (its grid under its transform). On failure (NULL
  *  argument, index out of range: DNG_INVALID_ARGUMENT) nothing is written. */
 DNG_API dng_status dng_scene_body_bounds(const dng_scene* scene, uint32_t body, float out_min[3], float out_max[3]);
+/** 1 when a particle placed at the world point `point` could be moved by dng_scene_step as far as this
+ *  body goes: its field proves the point outside (dng::Body::provesOutside). 0 where the step would never
+ *  move it, inside included, and for a non-finite point; -1 for a NULL argument or an index out of range.
+ *  For testing spawn points. */
+DNG_API int32_t dng_scene_body_proves_outside(const dng_scene* scene, uint32_t body, const float point[3]);
 
 /** Mirrors dng::ParticleSpan: strides in bytes; out_contact and out_body may be NULL. */
 typedef struct dng_particles {
