@@ -21,10 +21,9 @@ struct ViewInternals {
   static const std::uint16_t* shading(const View& v) { return v.shading_; }
   /// View::sample(p) (nearest) with the plane's normal in place of a shading one: the step's walk
   /// reads the planes the bake made conservative (docs/FORMAT.md §5.4). `out_shading`, when not null,
-  /// gets the normal sample(p) would give: what the responses read.
+  /// gets the normal sample(p) would give: what the responses read; null (the walk) skips SHAD.
   static Sample planeSample(const View& v, Vec3f p, Vec3f* out_shading = nullptr) {
-    Vec3f unused;
-    return v.planeSample(p, out_shading != nullptr ? out_shading : &unused);
+    return v.planeSample(p, out_shading);
   }
   /// The walk's second look at p (docs/FORMAT.md §5.5): `first` (planeSample(p)'s answer, in band)
   /// unless p's voxel has a second bound (PLN2) that reads higher at p. A plane alone: that plane's

@@ -61,21 +61,21 @@ DNG_FORCE_INLINE bool View::toVoxelUnits(Vec3f p, float out_u[3]) const {
 }
 
 // Distance and normals at the centre of voxel (i, j, k), without refinement. Far voxels read as +-band
-// with zero normals in both encodings. A caller that leaves `shading` unused pays nothing for it: the
-// helpers are inlined and the load is dead.
+// with zero normals in both encodings. `with_shading` false skips SHAD: the decode is a call the
+// compiler cannot drop when only the result goes unused, and the walk's samples never read it.
 template <>
 DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kDense>(std::uint32_t i, std::uint32_t j,
-                                                                          std::uint32_t k) const {
+                                                                          std::uint32_t k, bool with_shading) const {
   const std::size_t at = (std::size_t(k) * grid_.dims[1] + j) * grid_.dims[0] + i;
   const fmt::DenseVoxel& v = dense_[at];
   if (!(std::fabs(v.distance) < grid_.band)) return {std::copysign(grid_.band, v.distance), Vec3f{}, Vec3f{}};
   const Vec3f n{v.normal[0], v.normal[1], v.normal[2]};
-  return {v.distance, n, shading_ != nullptr ? fmt::gradientNormal(shading_[at]) : n};
+  return {v.distance, n, with_shading && shading_ != nullptr ? fmt::gradientNormal(shading_[at]) : n};
 }
 
 // The same for a bricked voxel whose tile's top entry the caller has read.
 DNG_FORCE_INLINE View::VoxelValue View::brickedValue(std::uint64_t entry, std::uint32_t i, std::uint32_t j,
-                                                     std::uint32_t k) const {
+                                                     std::uint32_t k, bool with_shading) const {
   const std::uint32_t s = brick_log2_;
   const fmt::TileKind kind = fmt::entryKind(entry);
   if (kind == fmt::TileKind::kBrick) { // the common case near a curved surface
@@ -85,7 +85,7 @@ DNG_FORCE_INLINE View::VoxelValue View::brickedValue(std::uint64_t entry, std::u
     const float hi = fmt::rangeValue(fmt::entryHi16(entry), grid_.band, range_step_);
     const Vec3f n = fmt::wordNormal(word);
     return {fmt::wordDistance(word, lo, hi, fmt::brickDistanceStep(lo, hi)), n,
-            shading_ != nullptr ? fmt::gradientNormal(shading_[at]) : n};
+            with_shading && shading_ != nullptr ? fmt::gradientNormal(shading_[at]) : n};
   }
   if (kind == fmt::TileKind::kPlane) {
     // The plane is anchored at the tile centre, (tile * B + B/2) in voxel units.
@@ -101,23 +101,23 @@ DNG_FORCE_INLINE View::VoxelValue View::brickedValue(std::uint64_t entry, std::u
 
 template <>
 DNG_FORCE_INLINE View::VoxelValue View::voxelValue<fmt::Encoding::kBricked>(std::uint32_t i, std::uint32_t j,
-                                                                            std::uint32_t k) const {
-  return brickedValue(top_[tileOf(grid_, brick_log2_, i, j, k)], i, j, k);
+                                                                            std::uint32_t k, bool with_shading) const {
+  return brickedValue(top_[tileOf(grid_, brick_log2_, i, j, k)], i, j, k, with_shading);
 }
 
 template <fmt::Encoding kEncoding> DNG_FORCE_INLINE Sample View::nearest(Vec3f p, Vec3f* out_shading) const {
-  *out_shading = Vec3f{};
+  if (out_shading != nullptr) *out_shading = Vec3f{};
   float u[3];
   if (!toVoxelUnits(p, u)) return noField();
   const auto i = std::uint32_t(u[0]);
   const auto j = std::uint32_t(u[1]);
   const auto k = std::uint32_t(u[2]);
-  const VoxelValue v = voxelValue<kEncoding>(i, j, k);
+  const VoxelValue v = voxelValue<kEncoding>(i, j, k, out_shading != nullptr);
   if (!(std::fabs(v.distance) < grid_.band)) return finish(v.distance, Vec3f{});
   // Plane refinement; for plane tiles this is exactly the tile's plane evaluated at p.
   const Vec3f within{u[0] - float(i) - 0.5f, u[1] - float(j) - 0.5f, u[2] - float(k) - 0.5f};
   const Sample s = finish(v.distance + grid_.voxel_size * dot(v.normal, within), v.normal);
-  if (s.status == SampleStatus::kInBand) *out_shading = v.shading;
+  if (out_shading != nullptr && s.status == SampleStatus::kInBand) *out_shading = v.shading;
   return s;
 }
 
@@ -171,17 +171,21 @@ Sample View::secondBound(Vec3f p, const Sample& first, bool* out_pair, float* ou
 }
 
 Sample View::lowerBound(Vec3f p) const {
-  Vec3f unused_shading, unused_normal;
+  Vec3f unused_normal;
   bool unused_pair;
   float unused_distance;
-  return secondBound(p, planeSample(p, &unused_shading), &unused_pair, &unused_distance, &unused_normal);
+  return secondBound(p, planeSample(p, nullptr), &unused_pair, &unused_distance, &unused_normal);
 }
 
 Sample View::planeSample(Vec3f p, Vec3f* out_shading) const {
   if (!valid()) {
-    *out_shading = Vec3f{};
+    if (out_shading != nullptr) *out_shading = Vec3f{};
     return noField();
   }
+  // Two copies of each query, the walk's (null, a constant here) without SHAD.
+  if (out_shading == nullptr)
+    return dense_ != nullptr ? nearest<fmt::Encoding::kDense>(p, nullptr)
+                             : nearest<fmt::Encoding::kBricked>(p, nullptr);
   return dense_ != nullptr ? nearest<fmt::Encoding::kDense>(p, out_shading)
                            : nearest<fmt::Encoding::kBricked>(p, out_shading);
 }

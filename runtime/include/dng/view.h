@@ -140,17 +140,21 @@ private:
   };
   // Query helpers, defined (and inlined) in view_sample.cpp, specialised per encoding.
   // nearest answers with the plane's normal, what the step's walk reads (ViewInternals::planeSample),
-  // and writes the shading normal (zero unless in band), which sample() answers with.
+  // and writes the shading normal (zero unless in band), which sample() answers with, unless
+  // `out_shading` is null: the walk's samples then skip SHAD's load and decode.
   template <format::Encoding kEncoding> Sample nearest(Vec3f p, Vec3f* out_shading) const;
   template <format::Encoding kEncoding> Sample nearestShaded(Vec3f p) const;
-  Sample planeSample(Vec3f p, Vec3f* out_shading) const;
+  Sample planeSample(Vec3f p, Vec3f* out_shading) const; // out_shading may be null
   Sample secondBound(Vec3f p, const Sample& first, bool* out_pair, float* out_other_distance,
                      Vec3f* out_other_normal) const;
   std::uint64_t secondPlaneRecord(std::size_t tile, std::uint32_t local) const;
   template <format::Encoding kEncoding> Sample trilinear(Vec3f p) const;
   template <format::Encoding kEncoding> Sample accurate(Vec3f p) const;
-  template <format::Encoding kEncoding> VoxelValue voxelValue(std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
-  VoxelValue brickedValue(std::uint64_t entry, std::uint32_t i, std::uint32_t j, std::uint32_t k) const;
+  // `with_shading` false leaves VoxelValue::shading the plane's normal.
+  template <format::Encoding kEncoding>
+  VoxelValue voxelValue(std::uint32_t i, std::uint32_t j, std::uint32_t k, bool with_shading = true) const;
+  VoxelValue brickedValue(std::uint64_t entry, std::uint32_t i, std::uint32_t j, std::uint32_t k,
+                          bool with_shading = true) const;
   struct AccurateValue {
     float distance;
     Vec3f normal;
