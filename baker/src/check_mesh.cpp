@@ -12,8 +12,6 @@ namespace baker {
 
 namespace {
 
-bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 // Zero area, relative to the triangle's own size so that tiny but valid triangles still count.
 bool degenerate(const TriangleSoup& soup, const std::array<std::uint32_t, 3>& t) {
   if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
@@ -90,7 +88,7 @@ MeshReport checkMesh(const TriangleSoup& soup) {
   r.triangles = soup.triangles.size();
   bool first = true;
   for (const Vec3f& v : soup.vertices) {
-    if (!finite(v)) {
+    if (!isFinite(v)) {
       ++r.non_finite_vertices;
       continue;
     }

@@ -102,7 +102,7 @@ Status Body::setTransform(Vec3f t, const float q[4], float scale, Diagnostic* ou
 }
 
 bool Body::provesOutside(Vec3f p) const {
-  if (field_ == nullptr || !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) return false;
+  if (field_ == nullptr || !isFinite(p)) return false;
   return walkProvesOutside(*field_, toLocal(p)); // the step's start-of-step frame is the transform's
 }
 

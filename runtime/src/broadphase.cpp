@@ -54,8 +54,6 @@ constexpr double kCellsPerBody = 4.0;
 constexpr std::uint32_t kMaxDim = 1024;
 constexpr double kEntriesPerCellOrBody = 8.0;
 
-bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 // A cubic cell edge giving about kCellsPerBody cells per body over the scene box, counted only over
 // the axes the box really extends along: a flat city gets one layer of wide cells, not many thin ones.
 double cellEdge(const double extent[3], std::size_t bodies) {
@@ -142,7 +140,7 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
     const Box grown{{lo.x - t, lo.y - t, lo.z - t}, {hi.x + t, hi.y + t, hi.z + t}};
     boxes[b].box[int(BodyBox::kGrown)] = grown;
     boxes[b].grown_differs = std::memcmp(&grown, &boxes[b].box[int(BodyBox::kBounds)], sizeof grown) != 0;
-    if (!finite(grown.lo) || !finite(grown.hi)) {
+    if (!isFinite(grown.lo) || !isFinite(grown.hi)) {
       everywhere.push_back(std::uint32_t(b));
       continue;
     }

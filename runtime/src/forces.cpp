@@ -9,8 +9,6 @@ namespace dng {
 
 namespace {
 
-bool finite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 // The checks every force shares: dt, and the velocity arrays (positions only when the force reads them).
 Status checkSpan(const ParticleSpan& s, float dt, bool reads_positions, Diagnostic* diag) {
   if (!(dt > 0.0f) || !std::isfinite(dt))
@@ -45,7 +43,7 @@ Vec3f positionOf(const ParticleSpan& s, std::size_t n) {
 Status applyGravity(const ParticleSpan& particles, Vec3f gravity, float dt, Diagnostic* out_diag) {
   const Status status = checkSpan(particles, dt, false, out_diag);
   if (status != Status::kOk) return status;
-  if (!finite(gravity)) return writeDiagnostic(out_diag, Status::kInvalidArgument, "gravity must be finite");
+  if (!isFinite(gravity)) return writeDiagnostic(out_diag, Status::kInvalidArgument, "gravity must be finite");
   const Vec3f dv = gravity * dt;
   updateVelocities(particles, [dv](std::size_t, Vec3f v) { return v + dv; });
   return Status::kOk;
@@ -54,7 +52,7 @@ Status applyGravity(const ParticleSpan& particles, Vec3f gravity, float dt, Diag
 Status applyAirDrag(const ParticleSpan& particles, Vec3f wind, float rate, float dt, Diagnostic* out_diag) {
   const Status status = checkSpan(particles, dt, false, out_diag);
   if (status != Status::kOk) return status;
-  if (!finite(wind) || !(rate >= 0.0f) || !std::isfinite(rate))
+  if (!isFinite(wind) || !(rate >= 0.0f) || !std::isfinite(rate))
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "wind must be finite and rate finite and >= 0");
   const float blend = 1.0f - std::exp(-rate * dt);
   updateVelocities(particles, [wind, blend](std::size_t, Vec3f v) { return v + (wind - v) * blend; });
@@ -65,7 +63,7 @@ Status applyExplosion(const ParticleSpan& particles, Vec3f centre, float strengt
                       Diagnostic* out_diag) {
   const Status status = checkSpan(particles, dt, true, out_diag);
   if (status != Status::kOk) return status;
-  if (!finite(centre) || !std::isfinite(strength) || !(radius > 0.0f) || !std::isfinite(radius))
+  if (!isFinite(centre) || !std::isfinite(strength) || !(radius > 0.0f) || !std::isfinite(radius))
     return writeDiagnostic(out_diag, Status::kInvalidArgument,
                            "centre and strength must be finite and radius finite and > 0");
   const float inv_radius_sq = 1.0f / (radius * radius);

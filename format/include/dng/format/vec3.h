@@ -27,6 +27,8 @@ inline Vec3f operator*(float s, Vec3f a) { return a * s; }
 inline float dot(Vec3f a, Vec3f b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline Vec3f cross(Vec3f a, Vec3f b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 inline float length(Vec3f a) { return std::sqrt(dot(a, a)); }
+/// Whether every component is finite (no NaN, no infinity).
+inline bool isFinite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// Component `axis` (0 x, 1 y, 2 z; anything else z) of a vector, for code that loops over axes.
 inline float component(const Vec3f& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
