@@ -56,7 +56,7 @@ DNG_LANE_INLINE void storeTouches(const ParticleSpan& s, std::size_t n, I touch,
   std::memcpy(body, &touch, sizeof body);
   for (LaneBits l = on; l != 0; l &= l - 1) {
     const int lane = lowestLane(l);
-    s.out_contact[n + std::size_t(lane)] = body[lane] >= 0 ? 1 : 0;
+    s.out_contact[n + std::size_t(lane)] = contactFlag(body[lane]);
   }
 }
 

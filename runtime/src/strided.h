@@ -14,9 +14,12 @@ inline float& strided(float* base, std::size_t stride_bytes, std::size_t n) {
   return *reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride_bytes);
 }
 
+/// ParticleSpan::out_contact's byte for a touched body (-1: none).
+inline std::uint8_t contactFlag(std::int32_t body) { return body >= 0 ? 1 : 0; }
+
 /// Particle n's optional outputs: the body that acted on or blocked it (-1: none), and whether one did.
 inline void writeTouch(const ParticleSpan& s, std::size_t n, std::int32_t body) {
-  if (s.out_contact != nullptr) s.out_contact[n] = body >= 0 ? 1 : 0;
+  if (s.out_contact != nullptr) s.out_contact[n] = contactFlag(body);
   if (s.out_body != nullptr) s.out_body[n] = body;
 }
 
