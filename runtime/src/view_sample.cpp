@@ -182,10 +182,6 @@ Sample View::planeSample(Vec3f p, Vec3f* out_shading) const {
     if (out_shading != nullptr) *out_shading = Vec3f{};
     return noField();
   }
-  // Two copies of each query, the walk's (null, a constant here) without SHAD.
-  if (out_shading == nullptr)
-    return dense_ != nullptr ? nearest<fmt::Encoding::kDense>(p, nullptr)
-                             : nearest<fmt::Encoding::kBricked>(p, nullptr);
   return dense_ != nullptr ? nearest<fmt::Encoding::kDense>(p, out_shading)
                            : nearest<fmt::Encoding::kBricked>(p, out_shading);
 }
