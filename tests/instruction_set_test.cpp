@@ -603,6 +603,48 @@ TEST(InstructionSet, StepGivesTheScalarResultsWhenEachLaneMeetsItsOwnBody) {
   }
 }
 
+// Through an index, the lanes of a chunk that meet a body are queued when they are at most half of it,
+// and stepped together once the queue holds a chunk's worth, gathered from several chunks; the others
+// move at once (span_lanes.h, Crowded). A city of 400 small bodies, some moving, a few turned, over a
+// flat lattice; particles in random order over it, most of them near no body (about one in ten meets
+// one). A lane left out of a queue, stepped twice, or listed without a body it meets (the cells' coarse
+// boxes, broadphase.h cell_box) would differ from the scalar path.
+TEST(InstructionSet, StepGivesTheScalarResultsWhenFewLanesOfEachChunkMeetABody) {
+  const AnalyticField box = analytic::boxField({0, 0, 0}, {5.0f, 6.0f, 4.0f});
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
+  Field box_field(box, true), sphere_field(sphere, false);
+  std::mt19937 rng(37);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::vector<Body> bodies;
+  for (int b = 0; b < 400; ++b) { // 20 x 20, 6 apart, boxes about 2 wide
+    Body body = makeBody(b % 5 == 4 ? sphere_field.view : box_field.view, b % 7 == 3 ? everyRule() : Material{});
+    const float turned[4] = {1.0f, 0.2f * unit(rng), 0.2f * unit(rng), 0.2f * unit(rng)};
+    const float identity[4] = {1, 0, 0, 0};
+    const Vec3f at{6.0f * float(b % 20) - 57.0f + unit(rng), 6.0f * float(b / 20) - 57.0f + unit(rng),
+                   0.5f * unit(rng)};
+    ASSERT_EQ(body.setTransform(at, b % 3 == 0 ? turned : identity, 0.06f + 0.02f * unit(rng)), Status::kOk);
+    if (b % 4 == 1) body.setVelocity({6.0f * unit(rng), 6.0f * unit(rng), 3.0f * unit(rng)}, {0, 0, 0});
+    bodies.push_back(body);
+  }
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  Swarm swarm = randomSwarm(4001, 38);
+  std::uniform_real_distribution<float> across(-60.0f, 60.0f);
+  std::size_t meeting = 0;
+  for (Particle& p : swarm.particles) {
+    p.position[0] = across(rng), p.position[1] = across(rng), p.position[2] = 2.5f * unit(rng);
+    for (float& v : p.velocity)
+      v *= 0.1f;
+    const Vec3f at{p.position[0], p.position[1], p.position[2]};
+    std::uint32_t near[4];
+    meeting += index.bodiesNear(at, at, near, 4) > 0 ? 1 : 0;
+  }
+  // Few enough that chunks queue them, and enough to fill several queues.
+  EXPECT_GT(meeting, swarm.particles.size() / 20);
+  EXPECT_LT(meeting, swarm.particles.size() / 4);
+  expectSameSteps(bodies, swarm, &index);
+}
+
 // Moves over several cells of the index list the bodies of every cell they cross: groups of 8
 // particles (a chunk of lanes) cross three walls of the index's cells at once, each group towards a
 // small body that stands just past the first, second or third of those walls (so none of the cells

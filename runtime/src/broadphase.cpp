@@ -112,6 +112,16 @@ void setCells(BodyIndex::Impl* grid, const double extent[3], double edge) {
 
 } // namespace
 
+void BodyIndex::Impl::boxInCells(const Box& box, std::uint32_t first, std::uint32_t last, int axis,
+                                 std::vector<std::uint32_t>* out) const {
+  const float lo = axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z;
+  const float hi = axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z;
+  out->clear();
+  for (std::uint32_t c = first; c <= last; ++c)
+    out->push_back(cell_box::field(axis, cell_box::quantize(lo, origin[axis], inv_cell, float(c))) |
+                   cell_box::field(3 + axis, cell_box::quantize(hi, origin[axis], inv_cell, float(c))));
+}
+
 void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float step_dt) {
   built = false;
   count = body_count;
@@ -139,7 +149,6 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
     boxes[b].box[int(BodyBox::kBounds)] = {lo, hi};
     const Box grown{{lo.x - t, lo.y - t, lo.z - t}, {hi.x + t, hi.y + t, hi.z + t}};
     boxes[b].box[int(BodyBox::kGrown)] = grown;
-    boxes[b].grown_differs = std::memcmp(&grown, &boxes[b].box[int(BodyBox::kBounds)], sizeof grown) != 0;
     if (!isFinite(grown.lo) || !isFinite(grown.hi)) {
       everywhere.push_back(std::uint32_t(b));
       continue;
@@ -172,16 +181,25 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
     for (std::uint32_t z = r.lo[2]; z <= r.hi[2]; ++z)
       for (std::uint32_t y = r.lo[1]; y <= r.hi[1]; ++y)
         for (std::uint32_t x = r.lo[0]; x <= r.hi[0]; ++x)
-          f(cellIndex(x, y, z));
+          f(cellIndex(x, y, z), x, y, z);
   };
   for (std::uint32_t b : boxed)
-    forEachCell(b, [&](std::size_t c) { ++cell_start[c + 1]; });
+    forEachCell(b, [&](std::size_t c, std::uint32_t, std::uint32_t, std::uint32_t) { ++cell_start[c + 1]; });
   for (std::size_t c = 0; c < cells; ++c)
     cell_start[c + 1] += cell_start[c];
   cell_bodies.resize(cell_start[cells]);
+  cell_boxes.resize(cell_start[cells]);
   std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
-  for (std::uint32_t b : boxed)
-    forEachCell(b, [&](std::size_t c) { cell_bodies[fill[c]++] = b; });
+  std::vector<std::uint32_t> along[3]; // a body's cell_box fields per cell along each axis
+  for (std::uint32_t b : boxed) {
+    const CellRange r = cellRange(*this, grownBox(b));
+    for (int a = 0; a < 3; ++a)
+      boxInCells(grownBox(b), r.lo[a], r.hi[a], a, &along[a]);
+    forEachCell(b, [&](std::size_t c, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+      cell_boxes[fill[c]] = along[0][x - r.lo[0]] | along[1][y - r.lo[1]] | along[2][z - r.lo[2]];
+      cell_bodies[fill[c]++] = b;
+    });
+  }
   built = true;
 }
 

@@ -7,7 +7,9 @@
 // in every cell its grown box touches, a query takes every cell its box touches, and both go through
 // one monotone function from coordinate to cell, so boxes that overlap always share a cell. Then the
 // index drops listed bodies by the same comparisons on the same floats as the step's tests (copies of
-// the boxes, packed so that a query reads 24 bytes per listed body instead of the whole Body).
+// the boxes, packed so that a query reads 24 bytes per listed body instead of the whole Body). The
+// SIMD kernels list a lane's one cell by a coarse copy of each grown box (cell_box below), a superset
+// that their own exact tests then narrow.
 #pragma once
 
 #include "dng/body_index.h"
@@ -66,10 +68,34 @@ enum class BodyBox { kBounds = 0, kGrown = 1 };
 /// A body's two boxes in one cache line: a particle's response reads one, its move the other.
 struct alignas(64) BodyBoxes {
   Box box[2]; // by BodyBox
-  /// 0 when the grown box is the box, bit for bit (a body that does not move: its travel is 0), so the
-  /// lanes that read one need not read the other (near_lanes.h); else 1.
-  std::uint32_t grown_differs;
 };
+
+/// Each entry of a cell's list also holds its body's grown box within the cell, coarsely, so that the
+/// lanes test a move against it with one 32-bit word instead of six floats (near_lanes.h): per axis,
+/// the box's low and high ends in sixteenths of the cell, clamped to the cell, as six 4-bit fields
+/// under a guard bit each. A move's box is quantized by the same expression. Every step of it is
+/// monotone (a subtraction, multiplications by positive numbers, clamps, truncation of a non-negative
+/// number), so a move that meets a box has fields that meet the box's: the test lists a superset of
+/// what the exact test lists, which the exactness note above allows.
+namespace cell_box {
+constexpr int kSteps = 16;
+constexpr int kFieldBits = 5; // 4 bits of value under a guard bit
+constexpr std::uint32_t field(int k, std::uint32_t value) { return value << (kFieldBits * k); }
+/// The box's low ends are fields 0-2 (x, y, z), its high ends fields 3-5.
+constexpr std::uint32_t kLowValues = field(0, 15) | field(1, 15) | field(2, 15);
+constexpr std::uint32_t kHighValues = field(3, 15) | field(4, 15) | field(5, 15);
+constexpr std::uint32_t kGuards =
+    field(0, 16) | field(1, 16) | field(2, 16) | field(3, 16) | field(4, 16) | field(5, 16);
+
+/// The coordinate v of the axis whose origin, inverse cell edge and cell are given, in sixteenths of
+/// that cell from its low wall, clamped to [0, 15]. The lanes repeat these operations in this order.
+inline std::uint32_t quantize(float v, float origin, float inv_cell, float cell) {
+  float f = ((v - origin) * inv_cell - cell) * float(kSteps);
+  f = f > 0.0f ? f : 0.0f;
+  f = f < float(kSteps - 1) ? f : float(kSteps - 1);
+  return std::uint32_t(f);
+}
+} // namespace cell_box
 
 struct BodyIndex::Impl {
   bool built = false;
@@ -93,9 +119,14 @@ struct BodyIndex::Impl {
   Vec3f scene_lo, scene_hi;
   std::vector<std::uint32_t> cell_start;
   std::vector<std::uint32_t> cell_bodies;
+  std::vector<std::uint32_t> cell_boxes; // per entry of cell_bodies: the grown box in its cell (cell_box)
   std::vector<std::uint32_t> everywhere; // bodies whose grown box is not finite (a NaN or huge velocity)
 
   void build(const Body* bodies, std::size_t body_count, float step_dt);
+  /// The cell_box fields of `box` along `axis` (low end in field axis, high end in field 3 + axis) in
+  /// the cells first to last along that axis, into *out; a cell's word ORs its three axes' fields.
+  void boxInCells(const Box& box, std::uint32_t first, std::uint32_t last, int axis,
+                  std::vector<std::uint32_t>* out) const;
 
   /// Coordinate -> cell along `axis`, clamped to the grid. Monotone in x (a subtraction and a
   /// multiplication by a positive number, each rounded once, then clamps), which is all exactness

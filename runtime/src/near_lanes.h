@@ -215,7 +215,9 @@ struct LaneLists {
   static constexpr int kMax = 4; ///< a lane near more bodies goes to the scalar path
   alignas(kLaneAlign) std::int32_t body[kMax][kWidth];
   alignas(kLaneAlign) std::int32_t count[kWidth];
-  LaneBits held[kMax]; ///< per k, the lanes whose k-th body's box holds their position
+  /// Per k, the lanes whose k-th body's box holds their position, or may (listOneCellEach): the union
+  /// path's responses list those bodies, and each lane tests the box again.
+  LaneBits held[kMax];
 };
 
 // The lanes' query boxes and positions, stored for scalar code.
@@ -293,55 +295,51 @@ DNG_LANE_INLINE LaneBits listLanes(const IndexGrid& g, V3 lo, V3 hi, V3 at, cons
   return complete;
 }
 
-// Float k of a body's box `which` (lo.x, lo.y, lo.z, hi.x, hi.y, hi.z) per lane, gathered (lanes off
-// `m` read zeros).
-DNG_LANE_INLINE F gatherBoxFloat(const IndexGrid& g, I body, BodyBox which, int k, M m) {
-  constexpr auto stride = std::int32_t(sizeof(BodyBoxes) / sizeof(float)); // a cache line each
-  static_assert(sizeof(BodyBoxes) % sizeof(float) == 0 && sizeof(Box) == 6 * sizeof(float), "boxes are floats");
-  return gather(reinterpret_cast<const float*>(g.boxes) + 6 * int(which) + k, body * splatI(stride), m);
+// cell_box::quantize on lanes, for the coordinates x along `axis` in the cells `cell`.
+DNG_LANE_INLINE I quantizeInCell(const IndexGrid& g, F x, int axis, I cell) {
+  F f = ((x - splat(g.origin[axis])) * splat(g.inv_cell) - toFloat(cell)) * splat(float(cell_box::kSteps));
+  f = maxOf(f, splat(0.0f));
+  f = minOf(f, splat(float(cell_box::kSteps - 1)));
+  return truncate(f);
 }
 
-// A body's box `which` per lane, gathered (lanes off `m` read zeros).
-DNG_LANE_INLINE void gatherBox(const IndexGrid& g, I body, BodyBox which, M m, V3* out_lo, V3* out_hi) {
-  *out_lo = {gatherBoxFloat(g, body, which, 0, m), gatherBoxFloat(g, body, which, 1, m),
-             gatherBoxFloat(g, body, which, 2, m)};
-  *out_hi = {gatherBoxFloat(g, body, which, 3, m), gatherBoxFloat(g, body, which, 4, m),
-             gatherBoxFloat(g, body, which, 5, m)};
-}
-
-// The lanes of `m` whose boxes [lo, hi] NearBodies::forEach would not drop against their body's grown
-// box, read into *out_lo and *out_hi for those lanes. Axis by axis: about one lane in six meets the
-// body its cell lists (counted on bench/many_bodies_bench's city), most miss it along x or y, and the
-// next axis's gathers read only the lanes still in (random order: 38.9 -> 36.9 ns per particle).
-DNG_LANE_INLINE M meetsGrownBox(const IndexGrid& g, I body, M m, V3 lo, V3 hi, V3* out_lo, V3* out_hi) {
+// Each lane's move box [lo, hi] in its one cell (r.first), as the two halves of a cell_box test: the
+// high ends in fields 0-2, the low ends in fields 3-5.
+struct QuantizedMoves {
+  I high, low;
+};
+DNG_LANE_INLINE QuantizedMoves quantizeMoves(const IndexGrid& g, V3 lo, V3 hi, const LaneCellRange& r) {
   const F l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
-  F box_lo[3] = {splat(0.0f), splat(0.0f), splat(0.0f)}, box_hi[3] = {box_lo[0], box_lo[1], box_lo[2]};
-  for (int a = 0; a < 3 && any(m); ++a) { // lanes dropped early read zeros on the later axes
-    box_lo[a] = gatherBoxFloat(g, body, BodyBox::kGrown, a, m);
-    box_hi[a] = gatherBoxFloat(g, body, BodyBox::kGrown, 3 + a, m);
-    m = m & ~((h[a] < box_lo[a]) | (l[a] > box_hi[a]));
+  QuantizedMoves q{splatI(0), splatI(0)};
+  for (int a = 0; a < 3; ++a) {
+    q.high = q.high | quantizeInCell(g, h[a], a, r.first[a]) * splatI(std::int32_t(cell_box::field(a, 1)));
+    q.low = q.low | quantizeInCell(g, l[a], a, r.first[a]) * splatI(std::int32_t(cell_box::field(3 + a, 1)));
   }
-  *out_lo = {box_lo[0], box_lo[1], box_lo[2]};
-  *out_hi = {box_hi[0], box_hi[1], box_hi[2]};
-  return m;
+  return q;
 }
 
-// BodyBoxes::grown_differs per lane (lanes off `m` read 0).
-DNG_LANE_INLINE I gatherGrownDiffers(const IndexGrid& g, I body, M m) {
-  constexpr auto stride = std::int32_t(sizeof(BodyBoxes) / sizeof(std::uint32_t));
-  const auto* base = reinterpret_cast<const std::uint32_t*>(reinterpret_cast<const char*>(g.boxes) +
-                                                            offsetof(BodyBoxes, grown_differs));
-  return gather(base, body * splatI(stride), m);
+// The lanes whose moves' fields meet the cell_boxes words `box`: per axis, the move's high end at or
+// above the box's low end, and the box's high end at or above the move's low end. All six comparisons
+// at once: each field of (x | guard) - y keeps its guard bit where x >= y, and never borrows from the
+// next (16 + x - y >= 1).
+DNG_LANE_INLINE M meetsCellBox(const QuantizedMoves& q, I box) {
+  const I x = q.high | (box & splatI(std::int32_t(cell_box::kHighValues)));
+  const I y = (box & splatI(std::int32_t(cell_box::kLowValues))) | q.low;
+  const I guards = splatI(std::int32_t(cell_box::kGuards));
+  return (((x | guards) + y * splatI(-1)) & guards) == guards;
 }
 
 // The lists of the lanes `listed`, each in the scene with its box in one cell (and no body listed
-// everywhere): the j-th body of every lane's cell at once, gathered and tested against its lane. Cells
-// list their bodies in increasing index, so each lane's come in order. Every other lane gets an empty
-// list. Returns the lanes whose lists overflow.
-DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, V3 lo, V3 hi, V3 at, M listed, I cell, LaneLists* out) {
-  const I start = gather(g.cell_start, cell, listed);
-  const I stop = gather(g.cell_start, cell + splatI(1), listed);
+// everywhere): the j-th body of every lane's cell at once, gathered and tested against its lane by the
+// cell's coarse box (cell_box, broadphase.h). Cells list their bodies in increasing index, so each
+// lane's come in order. A listed body's box may not hold the lane's position, nor its grown box meet
+// the lane's move: the kernels test both again. Every other lane gets an empty list. Returns the lanes
+// whose lists overflow.
+DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, V3 lo, V3 hi, M listed, const LaneCellRange& r, LaneLists* out) {
+  const I start = gather(g.cell_start, r.cell, listed);
+  const I stop = gather(g.cell_start, r.cell + splatI(1), listed);
   const F length = toFloat(stop + start * splatI(-1)); // a cell's count: small, exact as a float
+  const QuantizedMoves moves = quantizeMoves(g, lo, hi, r);
   I count = splatI(0);
   I body[LaneLists::kMax];
   M held[LaneLists::kMax];
@@ -351,25 +349,14 @@ DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, V3 lo, V3 hi, V3 at, M lis
   for (int j = 0;; ++j) {
     const M has = listed & (length > splat(float(j)));
     if (!any(has)) break;
-    const I b = gather(g.cell_bodies, start + splatI(j), has);
-    V3 box_lo, box_hi;
-    const M meet = meetsGrownBox(g, b, has, lo, hi, &box_lo, &box_hi);
+    const M meet = has & meetsCellBox(moves, gather(g.cell_boxes, start + splatI(j), has));
     if (!any(meet)) continue;
-    // The boxes of bodies that do not move are their grown boxes, just read: one gather for the flag
-    // instead of six for the box (bench/many_bodies_bench, random order: 42.3 -> 38.9 ns per particle).
-    const M differs = andNot(meet, gatherGrownDiffers(g, b, meet) == splatI(0));
-    if (any(differs)) {
-      V3 bounds_lo, bounds_hi;
-      gatherBox(g, b, BodyBox::kBounds, differs, &bounds_lo, &bounds_hi);
-      box_lo = select(differs, bounds_lo, box_lo), box_hi = select(differs, bounds_hi, box_hi);
-    }
-    const M inside = meet & ~((at.x < box_lo.x) | (at.y < box_lo.y) | (at.z < box_lo.z) | (at.x > box_hi.x) |
-                              (at.y > box_hi.y) | (at.z > box_hi.z));
+    const I b = gather(g.cell_bodies, start + splatI(j), meet);
     full = full | (meet & (count == splatI(LaneLists::kMax)));
     for (int k = 0; k < LaneLists::kMax; ++k) {
       const M put = meet & (count == splatI(k));
       body[k] = select(put, b, body[k]);
-      held[k] = (put & inside) | andNot(held[k], put);
+      held[k] = held[k] | put;
     }
     count = count + select(meet, splatI(1), splatI(0));
   }
@@ -391,7 +378,7 @@ DNG_LANE_INLINE M listEachLane(const IndexGrid& g, V3 lo, V3 hi, V3 at, M live, 
   // Lanes in one cell all at once; the rest (boxes over several cells, bodies listed everywhere) one
   // at a time.
   const M one_cell = g.everywhere_count == 0 ? live & in_scene & r.single : andNot(live, live);
-  live = andNot(live, listOneCellEach(g, lo, hi, at, one_cell, r.cell, out));
+  live = andNot(live, listOneCellEach(g, lo, hi, one_cell, r, out));
   const LaneBits others = bits(andNot(live, one_cell));
   if (others != 0) live = andNot(live, laneMask(others & ~listLanes(g, lo, hi, at, r, others, bits(in_scene), out)));
   return live;

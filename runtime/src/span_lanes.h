@@ -91,6 +91,16 @@ DNG_LANE_INLINE const NearList& chunkMoves(const StepBatch& batch, V3 start, V3 
   return io->moves;
 }
 
+// Where a chunk's lanes are in the span: the kWidth particles from `first`, or, for a chunk gathered from
+// several (Crowded below), particle index[lane] for each of the lanes `lanes`.
+struct ChunkPlace {
+  std::size_t first = 0;
+  const std::size_t* index = nullptr;
+  LaneBits lanes = allLanes();
+
+  std::size_t of(int lane) const { return index != nullptr ? index[lane] : first + std::size_t(lane); }
+};
+
 // Particles whose walks need cells, set aside while the chunks go on and walked cell by cell 8 (or 4)
 // at a time. A chunk's walk through cells runs every lane for as long as its slowest one needs, and
 // near a surface most chunks have one or two such particles: gathered, every walk in a chunk is one
@@ -107,8 +117,8 @@ struct Deferred {
 
   bool full() const { return count + std::size_t(kWidth) > kCapacity; }
 
-  // Adds the lanes `on` of chunk n, with their velocities and touches.
-  void add(std::size_t n, V3 velocity, const TouchLanes& touched, LaneBits on) {
+  // Adds the lanes `on` of the chunk at `place`, with their velocities and touches.
+  void add(const ChunkPlace& place, V3 velocity, const TouchLanes& touched, LaneBits on) {
     Lanes3 v;
     alignas(kLaneAlign) std::int32_t t[kWidth];
     alignas(kLaneAlign) float d[kWidth];
@@ -117,7 +127,7 @@ struct Deferred {
     store(d, touched.distance);
     for (; on != 0; on &= on - 1) {
       const int lane = lowestLane(on);
-      index[count] = n + std::size_t(lane);
+      index[count] = place.of(lane);
       vx[count] = v.x[lane], vy[count] = v.y[lane], vz[count] = v.z[lane], touch[count] = t[lane];
       touch_distance[count] = d[lane];
       ++count;
@@ -125,33 +135,38 @@ struct Deferred {
   }
 };
 
-// The particles' positions at the indices `index` (lanes past `lanes` repeat the first).
-DNG_LANE_INLINE V3 gatherPositions(const ParticleSpan& s, const std::size_t* index, int lanes) {
+// The floats of the particles at index[lane] (lanes past `lanes` repeat the first).
+DNG_LANE_INLINE V3 gatherLanes(float* x, float* y, float* z, std::size_t stride, const std::size_t* index, int lanes) {
   Lanes3 l;
   for (int lane = 0; lane < kWidth; ++lane) {
     const std::size_t i = index[lane < lanes ? lane : 0];
-    l.x[lane] = strided(s.position_x, s.position_stride, i);
-    l.y[lane] = strided(s.position_y, s.position_stride, i);
-    l.z[lane] = strided(s.position_z, s.position_stride, i);
+    l.x[lane] = strided(x, stride, i), l.y[lane] = strided(y, stride, i), l.z[lane] = strided(z, stride, i);
   }
   return {load(l.x), load(l.y), load(l.z)};
 }
 
+DNG_LANE_INLINE V3 gatherPositions(const ParticleSpan& s, const std::size_t* index, int lanes) {
+  return gatherLanes(s.position_x, s.position_y, s.position_z, s.position_stride, index, lanes);
+}
+
 // Writes the lanes `on`: position, velocity and the optional outputs of the particle at index[lane].
-DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* index, V3 position, const Deferred& d,
-                                  std::size_t from, LaneBits on) {
-  Lanes3 p;
+DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* index, V3 position, V3 velocity, I touch,
+                                  LaneBits on) {
+  Lanes3 p, v;
   store(p.x, position.x), store(p.y, position.y), store(p.z, position.z);
+  store(v.x, velocity.x), store(v.y, velocity.y), store(v.z, velocity.z);
+  alignas(kLaneAlign) std::int32_t t[kWidth];
+  std::memcpy(t, &touch, sizeof t);
   for (; on != 0; on &= on - 1) {
     const int lane = lowestLane(on);
-    const std::size_t i = index[lane], k = from + std::size_t(lane);
+    const std::size_t i = index[lane];
     strided(s.position_x, s.position_stride, i) = p.x[lane];
     strided(s.position_y, s.position_stride, i) = p.y[lane];
     strided(s.position_z, s.position_stride, i) = p.z[lane];
-    strided(s.velocity_x, s.velocity_stride, i) = d.vx[k];
-    strided(s.velocity_y, s.velocity_stride, i) = d.vy[k];
-    strided(s.velocity_z, s.velocity_stride, i) = d.vz[k];
-    writeTouch(s, i, d.touch[k]);
+    strided(s.velocity_x, s.velocity_stride, i) = v.x[lane];
+    strided(s.velocity_y, s.velocity_stride, i) = v.y[lane];
+    strided(s.velocity_z, s.velocity_stride, i) = v.z[lane];
+    writeTouch(s, i, t[lane]);
   }
 }
 
@@ -186,7 +201,9 @@ DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
       bodies = &listed;
     }
     const LaneBits done = bits(moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
-    scatterLanes(s, index, end, *io, from, done);
+    I touch;
+    std::memcpy(&touch, io->touch + from, sizeof touch);
+    scatterLanes(s, index, end, p.velocity, touch, done);
     for (LaneBits rest = on & ~done; rest != 0; rest &= rest - 1) { // the scalar path's move, after these responses
       const std::size_t k = from + std::size_t(lowestLane(rest));
       batch.scalar_move(batch.context, io->index[k], {io->vx[k], io->vy[k], io->vz[k]}, io->touch[k],
@@ -203,6 +220,7 @@ struct ChunkStep {
   TouchLanes touch;
   M live;
   LaneBits done;
+  LaneBits queued = 0; ///< live lanes another chunk will step (Crowded below), left alone here
 };
 
 // The chunk's responses and balls through the bodies of `bodies` (every body, or the union of the
@@ -220,22 +238,26 @@ DNG_LANE_INLINE ChunkStep stepUnion(const StepBatch& batch, const LaneLists* lis
   return out;
 }
 
-// The chunk at n after its responses and balls: the lanes proven clear move, the rest of the live ones
-// are set aside for the cells, the others go to the scalar path.
-DNG_LANE_INLINE void finishChunk(const StepBatch& batch, std::size_t n, const LaneParticles& p, const ChunkStep& c,
-                                 Deferred* deferred) {
+// The chunk at `place` after its responses and balls: the lanes proven clear move, the rest of the live
+// ones are set aside for the cells (but those queued), the others go to the scalar path.
+DNG_LANE_INLINE void finishChunk(const StepBatch& batch, const ChunkPlace& place, const LaneParticles& p,
+                                 const ChunkStep& c, Deferred* deferred) {
   const ParticleSpan& s = *batch.particles;
-  storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, n, c.end, c.done);
-  storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n, p.velocity, c.done);
-  storeTouches(s, n, c.touch.body, c.done);
-  const LaneBits later = bits(c.live) & ~c.done; // their walks need cells
+  if (place.index != nullptr) {
+    scatterLanes(s, place.index, c.end, p.velocity, c.touch.body, c.done);
+  } else {
+    storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, place.first, c.end, c.done);
+    storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, place.first, p.velocity, c.done);
+    storeTouches(s, place.first, c.touch.body, c.done);
+  }
+  const LaneBits later = bits(c.live) & ~c.done & ~c.queued; // their walks need cells
   if (later != 0) {
     if (deferred->full()) finishDeferred(batch, deferred);
-    deferred->add(n, p.velocity, c.touch, later);
+    deferred->add(place, p.velocity, c.touch, later);
   }
   // The lanes whose bodies the lists could not hold.
-  for (LaneBits rest = allLanes() & ~bits(c.live); rest != 0; rest &= rest - 1)
-    batch.scalar(batch.context, n + std::size_t(lowestLane(rest)));
+  for (LaneBits rest = place.lanes & ~bits(c.live); rest != 0; rest &= rest - 1)
+    batch.scalar(batch.context, place.of(lowestLane(rest)));
 }
 
 DNG_LANE_INLINE LaneParticles loadChunk(const ParticleSpan& s, std::size_t n) {
@@ -243,27 +265,89 @@ DNG_LANE_INLINE LaneParticles loadChunk(const ParticleSpan& s, std::size_t n) {
           loadLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, n)};
 }
 
-// Through an index: each chunk lists its lanes' bodies, and goes slot by slot where the slots share
-// fields and materials (slot_lanes.h), else the union way.
-DNG_LANE_INLINE std::size_t stepThroughIndex(const StepBatch& batch, Deferred* deferred) {
+// What stepping chunks through an index needs besides the particles: the union way's lists, each
+// lane's bodies, and the chunk's slots.
+struct IndexScratch {
+  ChunkBodies near;
+  LaneLists lists;
+  ChunkSlots slots;
+};
+
+// The chunk's responses and balls through its lanes' lists, `live` (near.lo, near.hi their move boxes):
+// slot by slot where the slots share fields and materials (slot_lanes.h), else the union way.
+DNG_LANE_INLINE ChunkStep stepListed(const StepBatch& batch, IndexScratch* w, M live, LaneParticles* io) {
+  if (!makeSlots(batch, w->lists, live, &w->slots)) return stepUnion(batch, &w->lists, &w->near, live, io);
+  ChunkStep c;
+  c.live = live;
+  c.done = bits(stepSlots(batch, w->slots, w->lists, w->near.lo, w->near.hi, io, &c.live, &c.end, &c.touch));
+  return c;
+}
+
+// Lanes that meet a body, queued from chunks where most lanes meet none. A chunk's slots cost the same
+// however few of its lanes they are for: with raindrops in random order over a city, about one lane in
+// six meets a building (bench/many_bodies_bench), so each chunk paid the slots' and the field's work
+// for a handful of lanes. Queued, those lanes fill whole chunks, listed again when they are stepped.
+// Each lane's result does not depend on the others', so the order lanes are stepped in changes no bit.
+// Room for two chunks' worth: a chunk's lanes may join a queue one lane short of a chunk.
+struct Crowded {
+  std::size_t count = 0;
+  std::size_t index[2 * kWidth];
+};
+
+DNG_LANE_INLINE int laneCount(LaneBits on) { return __builtin_popcountll(static_cast<unsigned long long>(on)); }
+
+// Lists the lanes of the chunk at `place` and steps them; or, when `queue` is not null and at most half
+// of them meet a body, finishes the others (they move as they would through the slots: no response,
+// their own end) and adds those to `queue`. Lanes whose bodies the lists cannot hold go to the scalar
+// path.
+DNG_LANE_INLINE void stepOrQueue(const StepBatch& batch, IndexScratch* w, const ChunkPlace& place, LaneParticles p,
+                                 Crowded* queue, Deferred* deferred) {
+  const V3 end = p.position + p.velocity * splat(batch.dt);
+  moveBox(p.position, end, &w->near.lo, &w->near.hi);
+  const M live = listEachLane(*batch.index, w->near.lo, w->near.hi, p.position, laneMask(place.lanes), &w->lists);
+  I count;
+  std::memcpy(&count, w->lists.count, sizeof count);
+  LaneBits meeting = bits(andNot(live, count == splatI(0)));
+  if (queue == nullptr || 2 * laneCount(meeting) > kWidth) {
+    finishChunk(batch, place, p, stepListed(batch, w, live, &p), deferred);
+    return;
+  }
+  ChunkStep c;
+  c.end = end;
+  c.touch = noTouch();
+  c.live = live;
+  c.done = bits(live) & ~meeting;
+  c.queued = meeting;
+  finishChunk(batch, place, p, c, deferred);
+  for (; meeting != 0; meeting &= meeting - 1)
+    queue->index[queue->count++] = place.of(lowestLane(meeting));
+}
+
+// Steps the first kWidth queued lanes (all of them, when fewer) as one chunk, gathered (lanes past the
+// count repeat the first and stay off), and drops them from the queue.
+DNG_LANE_INLINE void stepQueue(const StepBatch& batch, IndexScratch* w, Crowded* queue, Deferred* deferred) {
+  if (queue->count == 0) return;
   const ParticleSpan& s = *batch.particles;
-  ChunkBodies near; // the union way's lists
-  LaneLists lists;  // each lane's bodies
-  ChunkSlots slots; // and the chunk's slots
+  const int lanes = int(std::min(queue->count, std::size_t(kWidth)));
+  const LaneParticles p{gatherPositions(s, queue->index, lanes),
+                        gatherLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, queue->index, lanes)};
+  stepOrQueue(batch, w, ChunkPlace{0, queue->index, firstLanes(lanes)}, p, nullptr, deferred);
+  queue->count -= std::size_t(lanes);
+  std::copy(queue->index + lanes, queue->index + lanes + queue->count, queue->index);
+}
+
+// Through an index: each chunk lists its lanes' bodies; a chunk where at most half of them meet one
+// queues those (Crowded), any other is stepped whole.
+__attribute__((noinline)) inline std::size_t stepThroughIndex(const StepBatch& batch, Deferred* deferred) {
+  const ParticleSpan& s = *batch.particles;
+  IndexScratch w;
+  Crowded queue;
   std::size_t n = 0;
   for (; n + kWidth <= s.count; n += kWidth) {
-    LaneParticles p = loadChunk(s, n);
-    moveBox(p.position, p.position + p.velocity * splat(batch.dt), &near.lo, &near.hi);
-    const M live = listEachLane(*batch.index, near.lo, near.hi, p.position, allTrue(), &lists);
-    ChunkStep c;
-    if (makeSlots(batch, lists, live, &slots)) {
-      c.live = live;
-      c.done = bits(stepSlots(batch, slots, lists, near.lo, near.hi, &p, &c.live, &c.end, &c.touch));
-    } else {
-      c = stepUnion(batch, &lists, &near, live, &p);
-    }
-    finishChunk(batch, n, p, c, deferred);
+    stepOrQueue(batch, &w, {n}, loadChunk(s, n), &queue, deferred);
+    if (queue.count >= std::size_t(kWidth)) stepQueue(batch, &w, &queue, deferred);
   }
+  stepQueue(batch, &w, &queue, deferred);
   return n;
 }
 
@@ -279,7 +363,7 @@ inline void stepLanes(const StepBatch& batch) {
     ChunkBodies unused;
     for (; n + kWidth <= s.count; n += kWidth) {
       LaneParticles p = loadChunk(s, n);
-      finishChunk(batch, n, p, stepUnion(batch, nullptr, &unused, allTrue(), &p), &deferred);
+      finishChunk(batch, {n}, p, stepUnion(batch, nullptr, &unused, allTrue(), &p), &deferred);
     }
   }
   finishDeferred(batch, &deferred);

@@ -308,6 +308,7 @@ IndexGrid gridOf(const BodyIndex::Impl& index) {
   g.boxes = index.boxes.data();
   g.cell_start = index.cell_start.data();
   g.cell_bodies = index.cell_bodies.data();
+  g.cell_boxes = index.cell_boxes.data();
   g.everywhere = index.everywhere.data();
   g.everywhere_count = index.everywhere.size();
   g.inv_cell = index.inv_cell;

@@ -46,6 +46,7 @@ struct IndexGrid {
   const BodyBoxes* boxes = nullptr;
   const std::uint32_t* cell_start = nullptr;
   const std::uint32_t* cell_bodies = nullptr;
+  const std::uint32_t* cell_boxes = nullptr;
   const std::uint32_t* everywhere = nullptr;
   std::size_t everywhere_count = 0;
   float origin[3] = {0, 0, 0};
