@@ -379,7 +379,10 @@ DNG_LANE_INLINE M listEachLane(const IndexGrid& g, V3 lo, V3 hi, V3 at, M live, 
   // at a time.
   const M one_cell = g.everywhere_count == 0 ? live & in_scene & r.single : andNot(live, live);
   live = andNot(live, listOneCellEach(g, lo, hi, one_cell, r, out));
-  const LaneBits others = bits(andNot(live, one_cell));
+  // Lanes outside the scene meet only the bodies listed everywhere: with none, listOneCellEach's empty
+  // lists are theirs (raindrops above a city's roofs).
+  const M empty = g.everywhere_count == 0 ? andNot(live, in_scene) : andNot(live, live);
+  const LaneBits others = bits(andNot(andNot(live, one_cell), empty));
   if (others != 0) live = andNot(live, laneMask(others & ~listLanes(g, lo, hi, at, r, others, bits(in_scene), out)));
   return live;
 }
