@@ -176,15 +176,15 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   // Counting sort into the cells, bodies in increasing index: every cell's list comes out sorted.
   const std::size_t cells = std::size_t(dims[0]) * dims[1] * dims[2];
   cell_start.assign(cells + 1, 0);
-  auto forEachCell = [&](std::uint32_t b, auto&& f) {
-    const CellRange r = cellRange(*this, grownBox(b));
+  auto forEachCell = [&](const CellRange& r, auto&& f) {
     for (std::uint32_t z = r.lo[2]; z <= r.hi[2]; ++z)
       for (std::uint32_t y = r.lo[1]; y <= r.hi[1]; ++y)
         for (std::uint32_t x = r.lo[0]; x <= r.hi[0]; ++x)
           f(cellIndex(x, y, z), x, y, z);
   };
   for (std::uint32_t b : boxed)
-    forEachCell(b, [&](std::size_t c, std::uint32_t, std::uint32_t, std::uint32_t) { ++cell_start[c + 1]; });
+    forEachCell(cellRange(*this, grownBox(b)),
+                [&](std::size_t c, std::uint32_t, std::uint32_t, std::uint32_t) { ++cell_start[c + 1]; });
   for (std::size_t c = 0; c < cells; ++c)
     cell_start[c + 1] += cell_start[c];
   cell_bodies.resize(cell_start[cells]);
@@ -195,7 +195,7 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
     const CellRange r = cellRange(*this, grownBox(b));
     for (int a = 0; a < 3; ++a)
       boxInCells(grownBox(b), r.lo[a], r.hi[a], a, &along[a]);
-    forEachCell(b, [&](std::size_t c, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    forEachCell(r, [&](std::size_t c, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
       cell_boxes[fill[c]] = along[0][x - r.lo[0]] | along[1][y - r.lo[1]] | along[2][z - r.lo[2]];
       cell_bodies[fill[c]++] = b;
     });

@@ -47,6 +47,9 @@ DNG_LANE_INLINE int lowestLane(LaneBits on) {
   return sizeof(LaneBits) > sizeof(unsigned) ? __builtin_ctzll(on) : __builtin_ctz(unsigned(on));
 }
 
+/// How many lanes' bits are set in `on`.
+DNG_LANE_INLINE int laneCount(LaneBits on) { return __builtin_popcountll(static_cast<unsigned long long>(on)); }
+
 /// Three lanes of floats: a point or a vector per lane.
 struct V3 {
   F x, y, z;

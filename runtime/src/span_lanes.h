@@ -294,8 +294,6 @@ struct Crowded {
   std::size_t index[2 * kWidth];
 };
 
-DNG_LANE_INLINE int laneCount(LaneBits on) { return __builtin_popcountll(static_cast<unsigned long long>(on)); }
-
 // Lists the lanes of the chunk at `place` and steps them; or, when `queue` is not null and at most half
 // of them meet a body, finishes the others (they move as they would through the slots: no response,
 // their own end) and adds those to `queue`. Lanes whose bodies the lists cannot hold go to the scalar
