@@ -603,6 +603,28 @@ TEST(InstructionSet, StepGivesTheScalarResultsWhenEachLaneMeetsItsOwnBody) {
   }
 }
 
+// Materials may change after the index's build: the bodies of one kind at the build (one field, one
+// material, stepped together, slot_lanes.h) then differ, and the kernels must not step them as one. The
+// lattice of bodies near which each lane meets its own, with a quarter of its bodies turned to springs
+// and its springs to a bouncier impact after the rebuild; the index is not rebuilt.
+TEST(InstructionSet, StepGivesTheScalarResultsWhenMaterialsChangeAfterTheIndexIsBuilt) {
+  const AnalyticField sphere = analytic::sphereField({0, 0, 0}, 8.0f);
+  Field field(sphere, false);
+  std::mt19937 rng(41);
+  std::vector<Body> bodies = bodyLattice(field.view, 7, &rng);
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  Material bouncy = everyRule();
+  bouncy.restitution = 0.9f;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const Material now = b % 4 == 0 ? otherMaterials().spring : b % 7 == 6 ? bouncy : bodies[b].material();
+    ASSERT_EQ(bodies[b].setMaterial(now), Status::kOk);
+  }
+  Swarm swarm = randomSwarm(3001, 42);
+  placeNearBodies(bodies, &swarm, &rng);
+  expectSameSteps(bodies, swarm, &index);
+}
+
 // Through an index, the lanes of a chunk that meet a body are queued when they are at most half of it,
 // and stepped together once the queue holds a chunk's worth, gathered from several chunks; the others
 // move at once (span_lanes.h, Crowded). A city of 400 small bodies, some moving, a few turned, over a

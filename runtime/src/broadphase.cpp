@@ -200,7 +200,37 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
       cell_bodies[fill[c]++] = b;
     });
   }
+  findKinds(bodies);
   built = true;
+}
+
+void BodyIndex::Impl::findKinds(const Body* bodies) {
+  constexpr int kRecentKinds = 8; // a city's buildings share one kind or a few
+  std::int32_t recent[kRecentKinds];
+  int known = 0;
+  kinds.resize(count);
+  for (std::size_t b = 0; b < count; ++b) {
+    const Body& body = bodies[b];
+    int k = 0;
+    while (k < known &&
+           !(bodies[recent[k]].field() == body.field() && sameMaterial(bodies[recent[k]].material(), body.material())))
+      ++k;
+    const std::int32_t kind = k < known ? recent[k] : std::int32_t(b);
+    kinds[b] = kind;
+    // The kind found moves to the front; a new one enters there, the oldest leaving when full.
+    if (k == known && known < kRecentKinds) ++known;
+    for (k = std::min(k, kRecentKinds - 1); k > 0; --k)
+      recent[k] = recent[k - 1];
+    recent[0] = kind;
+  }
+}
+
+bool BodyIndex::Impl::kindsHold(const Body* bodies) const {
+  for (std::size_t b = 0; b < count; ++b) {
+    const std::int32_t kind = kinds[b];
+    if (std::size_t(kind) != b && !sameMaterial(bodies[b].material(), bodies[kind].material())) return false;
+  }
+  return true;
 }
 
 bool BodyIndex::Impl::matches(const Body* bodies, std::size_t body_count, std::size_t* out_changed) const {

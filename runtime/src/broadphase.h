@@ -12,10 +12,13 @@
 // that their own exact tests then narrow.
 #pragma once
 
+#include "dng/body.h"
 #include "dng/body_index.h"
 #include "pose.h"
 
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace dng {
@@ -97,6 +100,15 @@ inline std::uint32_t quantize(float v, float origin, float inv_cell, float cell)
 }
 } // namespace cell_box
 
+/// Whether two materials act the same, bit for bit: their bytes from `response` through `swept`, which
+/// hold no padding, so floats compare as bits (-0 and +0 differ) and the enum and bool as values.
+inline bool sameMaterial(const Material& a, const Material& b) {
+  static_assert(offsetof(Material, response) == 0 && sizeof(Response) == 4 && offsetof(Material, restitution) == 4 &&
+                    offsetof(Material, swept) == 4 + 9 * sizeof(float),
+                "sameMaterial compares Material's bytes up to `swept`: it must see every field and no padding");
+  return std::memcmp(&a, &b, offsetof(Material, swept) + sizeof(bool)) == 0;
+}
+
 struct BodyIndex::Impl {
   bool built = false;
   std::size_t count = 0;
@@ -121,8 +133,17 @@ struct BodyIndex::Impl {
   std::vector<std::uint32_t> cell_bodies;
   std::vector<std::uint32_t> cell_boxes; // per entry of cell_bodies: the grown box in its cell (cell_box)
   std::vector<std::uint32_t> everywhere; // bodies whose grown box is not finite (a NaN or huge velocity)
+  // Per body, its kind: the body the build found with the same field and material (sameMaterial), or
+  // itself. The build looks among the last few kinds it met only, so bodies of one kind may get
+  // different kinds, which only costs them a shared pass (slot_lanes.h); never the reverse. Materials
+  // may change after the build: the kinds hold for a call while every body's material still equals its
+  // kind's (kindsHold).
+  std::vector<std::int32_t> kinds;
 
   void build(const Body* bodies, std::size_t body_count, float step_dt);
+  void findKinds(const Body* bodies);
+  /// Whether `kinds` still holds for `bodies`, which match the build's (matches()).
+  bool kindsHold(const Body* bodies) const;
   /// The cell_box fields of `box` along `axis` (low end in field axis, high end in field 3 + axis) in
   /// the cells first to last along that axis, into *out; a cell's word ORs its three axes' fields.
   void boxInCells(const Box& box, std::uint32_t first, std::uint32_t last, int axis,

@@ -46,10 +46,13 @@ DNG_LANE_INLINE M boxChanged(V3 lo, V3 hi, V3 was_lo, V3 was_hi) {
 /// A move's box over more cells than this sends its lane to the scalar path.
 constexpr std::uint32_t kMaxMoveCells = 8;
 
-// BodyIndex::Impl::cellOf on lanes: maxOf and minOf are the same comparisons as its clamps.
-DNG_LANE_INLINE I cellAxis(const IndexGrid& g, F x, int axis) {
-  F t = (x - splat(g.origin[axis])) * splat(g.inv_cell);
-  t = maxOf(t, splat(0.0f));
+// Coordinates along `axis` in cells from the grid's origin, unclamped: the first step of
+// BodyIndex::Impl::cellOf and of cell_box::quantize, which cellAxis and quantizeInCell take from here.
+DNG_LANE_INLINE F inCells(const IndexGrid& g, F x, int axis) { return (x - splat(g.origin[axis])) * splat(g.inv_cell); }
+
+// BodyIndex::Impl::cellOf on lanes, from inCells: maxOf and minOf are the same comparisons as its clamps.
+DNG_LANE_INLINE I cellAxis(const IndexGrid& g, F in_cells, int axis) {
+  F t = maxOf(in_cells, splat(0.0f));
   t = minOf(t, splat(g.last_cell[axis]));
   return truncate(t);
 }
@@ -59,18 +62,21 @@ struct LaneCells {
 };
 
 // The cells a register's boxes touch: per axis the first and last, and where a box is in one cell,
-// that cell.
+// that cell; and the boxes' corners in cells (inCells), for quantizeMoves.
 struct LaneCellRange {
   I first[3], last[3];
   M single;
   I cell;
+  F lo[3], hi[3];
 };
 
 DNG_LANE_INLINE LaneCellRange cellRange(const IndexGrid& g, V3 lo, V3 hi) {
   LaneCellRange r;
   const F l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
-  for (int a = 0; a < 3; ++a)
-    r.first[a] = cellAxis(g, l[a], a), r.last[a] = cellAxis(g, h[a], a);
+  for (int a = 0; a < 3; ++a) {
+    r.lo[a] = inCells(g, l[a], a), r.hi[a] = inCells(g, h[a], a);
+    r.first[a] = cellAxis(g, r.lo[a], a), r.last[a] = cellAxis(g, r.hi[a], a);
+  }
   r.single = (r.first[0] == r.last[0]) & (r.first[1] == r.last[1]) & (r.first[2] == r.last[2]);
   r.cell = (r.first[2] * splatI(std::int32_t(g.dims[1])) + r.first[1]) * splatI(std::int32_t(g.dims[0])) + r.first[0];
   return r;
@@ -295,25 +301,24 @@ DNG_LANE_INLINE LaneBits listLanes(const IndexGrid& g, V3 lo, V3 hi, V3 at, cons
   return complete;
 }
 
-// cell_box::quantize on lanes, for the coordinates x along `axis` in the cells `cell`.
-DNG_LANE_INLINE I quantizeInCell(const IndexGrid& g, F x, int axis, I cell) {
-  F f = ((x - splat(g.origin[axis])) * splat(g.inv_cell) - toFloat(cell)) * splat(float(cell_box::kSteps));
+// cell_box::quantize on lanes, for coordinates in cells (inCells) in the cells `cell`.
+DNG_LANE_INLINE I quantizeInCell(F in_cells, I cell) {
+  F f = (in_cells - toFloat(cell)) * splat(float(cell_box::kSteps));
   f = maxOf(f, splat(0.0f));
   f = minOf(f, splat(float(cell_box::kSteps - 1)));
   return truncate(f);
 }
 
-// Each lane's move box [lo, hi] in its one cell (r.first), as the two halves of a cell_box test: the
+// Each lane's move box (r.lo, r.hi) in its one cell (r.first), as the two halves of a cell_box test: the
 // high ends in fields 0-2, the low ends in fields 3-5.
 struct QuantizedMoves {
   I high, low;
 };
-DNG_LANE_INLINE QuantizedMoves quantizeMoves(const IndexGrid& g, V3 lo, V3 hi, const LaneCellRange& r) {
-  const F l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+DNG_LANE_INLINE QuantizedMoves quantizeMoves(const LaneCellRange& r) {
   QuantizedMoves q{splatI(0), splatI(0)};
   for (int a = 0; a < 3; ++a) {
-    q.high = q.high | quantizeInCell(g, h[a], a, r.first[a]) * splatI(std::int32_t(cell_box::field(a, 1)));
-    q.low = q.low | quantizeInCell(g, l[a], a, r.first[a]) * splatI(std::int32_t(cell_box::field(3 + a, 1)));
+    q.high = q.high | quantizeInCell(r.hi[a], r.first[a]) * splatI(std::int32_t(cell_box::field(a, 1)));
+    q.low = q.low | quantizeInCell(r.lo[a], r.first[a]) * splatI(std::int32_t(cell_box::field(3 + a, 1)));
   }
   return q;
 }
@@ -330,38 +335,40 @@ DNG_LANE_INLINE M meetsCellBox(const QuantizedMoves& q, I box) {
 }
 
 // The lists of the lanes `listed`, each in the scene with its box in one cell (and no body listed
-// everywhere): the j-th body of every lane's cell at once, gathered and tested against its lane by the
-// cell's coarse box (cell_box, broadphase.h). Cells list their bodies in increasing index, so each
-// lane's come in order. A listed body's box may not hold the lane's position, nor its grown box meet
-// the lane's move: the kernels test both again. Every other lane gets an empty list. Returns the lanes
-// whose lists overflow.
-DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, V3 lo, V3 hi, M listed, const LaneCellRange& r, LaneLists* out) {
+// everywhere): the j-th entry of every lane's cell at once, tested against its lane by the cell's
+// coarse box (cell_box, broadphase.h), then the bodies of the entries that met, gathered once per
+// place in the lists (a chunk's lanes walk as many entries as its longest cell holds, but list one or
+// two bodies each). Cells list their bodies in increasing index, so each lane's come in order. A
+// listed body's box may not hold the lane's position, nor its grown box meet the lane's move: the
+// kernels test both again. Every other lane gets an empty list. Returns the lanes whose lists
+// overflow.
+DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, M listed, const LaneCellRange& r, LaneLists* out) {
   const I start = gather(g.cell_start, r.cell, listed);
   const I stop = gather(g.cell_start, r.cell + splatI(1), listed);
   const F length = toFloat(stop + start * splatI(-1)); // a cell's count: small, exact as a float
-  const QuantizedMoves moves = quantizeMoves(g, lo, hi, r);
+  const QuantizedMoves moves = quantizeMoves(r);
   I count = splatI(0);
-  I body[LaneLists::kMax];
+  I entry[LaneLists::kMax]; // per place in the lists, the entry of cell_bodies that met
   M held[LaneLists::kMax];
   for (int k = 0; k < LaneLists::kMax; ++k)
-    body[k] = splatI(0), held[k] = andNot(listed, listed);
+    entry[k] = splatI(0), held[k] = andNot(listed, listed);
   M full = andNot(listed, listed);
   for (int j = 0;; ++j) {
     const M has = listed & (length > splat(float(j)));
     if (!any(has)) break;
-    const M meet = has & meetsCellBox(moves, gather(g.cell_boxes, start + splatI(j), has));
-    if (!any(meet)) continue;
-    const I b = gather(g.cell_bodies, start + splatI(j), meet);
+    const I at = start + splatI(j);
+    const M meet = has & meetsCellBox(moves, gather(g.cell_boxes, at, has));
     full = full | (meet & (count == splatI(LaneLists::kMax)));
     for (int k = 0; k < LaneLists::kMax; ++k) {
       const M put = meet & (count == splatI(k));
-      body[k] = select(put, b, body[k]);
+      entry[k] = select(put, at, entry[k]);
       held[k] = held[k] | put;
     }
     count = count + select(meet, splatI(1), splatI(0));
   }
   for (int k = 0; k < LaneLists::kMax; ++k) {
-    std::memcpy(out->body[k], &body[k], sizeof body[k]);
+    const I body = any(held[k]) ? gather(g.cell_bodies, entry[k], held[k]) : splatI(0);
+    std::memcpy(out->body[k], &body, sizeof body);
     out->held[k] = bits(held[k]);
   }
   std::memcpy(out->count, &count, sizeof count);
@@ -378,7 +385,7 @@ DNG_LANE_INLINE M listEachLane(const IndexGrid& g, V3 lo, V3 hi, V3 at, M live, 
   // Lanes in one cell all at once; the rest (boxes over several cells, bodies listed everywhere) one
   // at a time.
   const M one_cell = g.everywhere_count == 0 ? live & in_scene & r.single : andNot(live, live);
-  live = andNot(live, listOneCellEach(g, lo, hi, one_cell, r, out));
+  live = andNot(live, listOneCellEach(g, one_cell, r, out));
   // Lanes outside the scene meet only the bodies listed everywhere: with none, listOneCellEach's empty
   // lists are theirs (raindrops above a city's roofs).
   const M empty = g.everywhere_count == 0 ? andNot(live, in_scene) : andNot(live, live);

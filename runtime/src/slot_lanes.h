@@ -34,20 +34,12 @@ struct ChunkSlots {
   LaneBodies each[kMax];
 };
 
-inline bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-// Whether two materials act the same, bit for bit (their floats compared as bits, so -0 and +0 differ).
-inline bool sameMaterial(const Material& a, const Material& b) {
-  return a.response == b.response && a.swept == b.swept && sameBits(a.restitution, b.restitution) &&
-         sameBits(a.collision_distance, b.collision_distance) && sameBits(a.spring_stiffness, b.spring_stiffness) &&
-         sameBits(a.spring_distance, b.spring_distance) && sameBits(a.drag, b.drag) &&
-         sameBits(a.contact_distance, b.contact_distance) && sameBits(a.flow_in, b.flow_in) &&
-         sameBits(a.flow_out, b.flow_out) && sameBits(a.flow_distance, b.flow_distance);
-}
-
-// Whether body b steps as `shared` does but for its own numbers: the same field and material.
-DNG_LANE_INLINE bool sameKind(const StepBatch& batch, std::int32_t b, const StepBody& shared,
+// Whether body b steps as body `first` (`shared`, `material`) does but for its own numbers: the same
+// field and material. By the index's kinds where they hold for the call (a kind's bodies have both),
+// else compared.
+DNG_LANE_INLINE bool sameKind(const StepBatch& batch, std::int32_t b, std::int32_t first, const StepBody& shared,
                               const Material& material) {
+  if (batch.kinds != nullptr && batch.kinds[b] == batch.kinds[first]) return true;
   return batch.prepared[b].field == shared.field && sameMaterial(batch.bodies[b].material(), material);
 }
 
@@ -70,7 +62,7 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, in
   for (LaneBits l = *left; l != 0; l &= l - 1) {
     const int lane = lowestLane(l);
     const std::int32_t b = lists.body[next[lane]][lane];
-    if (b != first && !sameKind(batch, b, shared, material)) continue;
+    if (b != first && !sameKind(batch, b, first, shared, material)) continue;
     body[lane] = b;
     on |= laneBit(lane);
     if (b != first) others |= laneBit(lane), still = still && batch.prepared[b].still;

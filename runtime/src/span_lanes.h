@@ -174,7 +174,11 @@ DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* inde
 // them) and finishes them: the lanes proven clear move, the rest go to the scalar path's move. The
 // responses already acted (their velocities are kept); the walks sample their starts again (the same
 // numbers as the responses' samples).
-DNG_LANE_INLINE void finishDeferred(const StepBatch& batch, Deferred* io) {
+//
+// Out of line, as stepListed below: it runs once per Deferred::kCapacity particles, and inlined at each of its
+// callers it made stepLanes 132 KB of code (AVX-512) with its hot loop spread across it; out of line
+// the step's code is a fraction of that, and it runs faster (docs/RUNTIME.md, "SIMD").
+__attribute__((noinline)) inline void finishDeferred(const StepBatch& batch, Deferred* io) {
   if (io->count == 0) return;
   const ParticleSpan& s = *batch.particles;
   // Whole registers: the last chunk's empty lanes repeat its first particle's numbers (and stay off).
@@ -220,7 +224,8 @@ struct ChunkStep {
   TouchLanes touch;
   M live;
   LaneBits done;
-  LaneBits queued = 0; ///< live lanes another chunk will step (Crowded below), left alone here
+  LaneBits queued = 0;   ///< live lanes another chunk will step (Crowded below), left alone here
+  bool responded = true; ///< false: no response ran, so every velocity is still the one in the span
 };
 
 // The chunk's responses and balls through the bodies of `bodies` (every body, or the union of the
@@ -247,7 +252,8 @@ DNG_LANE_INLINE void finishChunk(const StepBatch& batch, const ChunkPlace& place
     scatterLanes(s, place.index, c.end, p.velocity, c.touch.body, c.done);
   } else {
     storeLanes(s.position_x, s.position_y, s.position_z, s.position_stride, place.first, c.end, c.done);
-    storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, place.first, p.velocity, c.done);
+    if (c.responded)
+      storeLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, place.first, p.velocity, c.done);
     storeTouches(s, place.first, c.touch.body, c.done);
   }
   const LaneBits later = bits(c.live) & ~c.done & ~c.queued; // their walks need cells
@@ -274,8 +280,11 @@ struct IndexScratch {
 };
 
 // The chunk's responses and balls through its lanes' lists, `live` (near.lo, near.hi their move boxes):
-// slot by slot where the slots share fields and materials (slot_lanes.h), else the union way.
-DNG_LANE_INLINE ChunkStep stepListed(const StepBatch& batch, IndexScratch* w, M live, LaneParticles* io) {
+// slot by slot where the slots share fields and materials (slot_lanes.h), else the union way. Out of
+// line: one copy serves the queue and the whole chunks (inlined in both, stepThroughIndex was 455 KB of
+// code on AVX-512, and 13% slower through the index; bench/many_bodies_bench).
+__attribute__((noinline)) inline ChunkStep stepListed(const StepBatch& batch, IndexScratch* w, M live,
+                                                      LaneParticles* io) {
   if (!makeSlots(batch, w->lists, live, &w->slots)) return stepUnion(batch, &w->lists, &w->near, live, io);
   ChunkStep c;
   c.live = live;
@@ -286,18 +295,57 @@ DNG_LANE_INLINE ChunkStep stepListed(const StepBatch& batch, IndexScratch* w, M 
 // Lanes that meet a body, queued from chunks where most lanes meet none. A chunk's slots cost the same
 // however few of its lanes they are for: with raindrops in random order over a city, about one lane in
 // six meets a building (bench/many_bodies_bench), so each chunk paid the slots' and the field's work
-// for a handful of lanes. Queued, those lanes fill whole chunks, listed again when they are stepped.
-// Each lane's result does not depend on the others', so the order lanes are stepped in changes no bit.
+// for a handful of lanes. Queued, those lanes fill whole chunks. Each lane's result does not depend on
+// the others', so the order lanes are stepped in changes no bit.
 // Room for two chunks' worth: a chunk's lanes may join a queue one lane short of a chunk.
 struct Crowded {
+  static constexpr int kCapacity = 2 * kWidth;
   std::size_t count = 0;
-  std::size_t index[2 * kWidth];
+  std::size_t index[kCapacity];
+  // Each queued lane's list as its chunk listed it, a column per lane as in LaneLists: a lane's list
+  // depends on its own position and move alone (listEachLane), so the queue's chunk does not list it
+  // again.
+  alignas(kLaneAlign) std::int32_t body[LaneLists::kMax][kCapacity];
+  alignas(kLaneAlign) std::int32_t listed[kCapacity];
+
+  // Queues particle i, lane `lane` of a chunk whose lists are `lists`.
+  void add(std::size_t i, const LaneLists& lists, int lane) {
+    index[count] = i;
+    listed[count] = lists.count[lane];
+    for (int k = 0; k < LaneLists::kMax; ++k)
+      body[k][count] = lists.body[k][lane];
+    ++count;
+  }
+
+  // The lists of the first `lanes` queued lanes as a chunk's; the lanes past them list no body. Every
+  // listed body counts as held, which LaneLists::held allows (listOneCellEach does the same).
+  void takeLists(int lanes, LaneLists* out) const {
+    I n;
+    std::memcpy(&n, listed, sizeof n);
+    n = select(laneMask(firstLanes(lanes)), n, splatI(0));
+    std::memcpy(out->count, &n, sizeof n);
+    for (int k = 0; k < LaneLists::kMax; ++k) {
+      std::memcpy(out->body[k], body[k], sizeof out->body[k]);
+      out->held[k] = bits(toFloat(n) > splat(float(k))); // a count: small, exact as a float
+    }
+  }
+
+  // Drops the first `lanes` queued lanes: all of them, or a chunk's worth (kWidth), whose followers,
+  // fewer than kWidth, move down as a chunk's worth of each column (a copy of known size, no call).
+  void drop(int lanes) {
+    count -= std::size_t(lanes);
+    if (count == 0) return;
+    const auto moveDown = [](auto* column) { std::memcpy(column, column + kWidth, kWidth * sizeof *column); };
+    moveDown(index);
+    moveDown(listed);
+    for (int k = 0; k < LaneLists::kMax; ++k)
+      moveDown(body[k]);
+  }
 };
 
-// Lists the lanes of the chunk at `place` and steps them; or, when `queue` is not null and at most half
-// of them meet a body, finishes the others (they move as they would through the slots: no response,
-// their own end) and adds those to `queue`. Lanes whose bodies the lists cannot hold go to the scalar
-// path.
+// Lists the lanes of the chunk at `place` and steps them; or, when at most half of them meet a body,
+// finishes the others (they move as they would through the slots: no response, their own end) and
+// adds those to `queue`. Lanes whose bodies the lists cannot hold go to the scalar path.
 DNG_LANE_INLINE void stepOrQueue(const StepBatch& batch, IndexScratch* w, const ChunkPlace& place, LaneParticles p,
                                  Crowded* queue, Deferred* deferred) {
   const V3 end = p.position + p.velocity * splat(batch.dt);
@@ -306,7 +354,7 @@ DNG_LANE_INLINE void stepOrQueue(const StepBatch& batch, IndexScratch* w, const 
   I count;
   std::memcpy(&count, w->lists.count, sizeof count);
   LaneBits meeting = bits(andNot(live, count == splatI(0)));
-  if (queue == nullptr || 2 * laneCount(meeting) > kWidth) {
+  if (2 * laneCount(meeting) > kWidth) {
     finishChunk(batch, place, p, stepListed(batch, w, live, &p), deferred);
     return;
   }
@@ -316,22 +364,26 @@ DNG_LANE_INLINE void stepOrQueue(const StepBatch& batch, IndexScratch* w, const 
   c.live = live;
   c.done = bits(live) & ~meeting;
   c.queued = meeting;
+  c.responded = false;
   finishChunk(batch, place, p, c, deferred);
   for (; meeting != 0; meeting &= meeting - 1)
-    queue->index[queue->count++] = place.of(lowestLane(meeting));
+    queue->add(place.of(lowestLane(meeting)), w->lists, lowestLane(meeting));
 }
 
 // Steps the first kWidth queued lanes (all of them, when fewer) as one chunk, gathered (lanes past the
-// count repeat the first and stay off), and drops them from the queue.
+// count repeat the first and stay off), with the lists their chunks gave them, and drops them from the
+// queue.
 DNG_LANE_INLINE void stepQueue(const StepBatch& batch, IndexScratch* w, Crowded* queue, Deferred* deferred) {
   if (queue->count == 0) return;
   const ParticleSpan& s = *batch.particles;
   const int lanes = int(std::min(queue->count, std::size_t(kWidth)));
-  const LaneParticles p{gatherPositions(s, queue->index, lanes),
-                        gatherLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, queue->index, lanes)};
-  stepOrQueue(batch, w, ChunkPlace{0, queue->index, firstLanes(lanes)}, p, nullptr, deferred);
-  queue->count -= std::size_t(lanes);
-  std::copy(queue->index + lanes, queue->index + lanes + queue->count, queue->index);
+  LaneParticles p{gatherPositions(s, queue->index, lanes),
+                  gatherLanes(s.velocity_x, s.velocity_y, s.velocity_z, s.velocity_stride, queue->index, lanes)};
+  moveBox(p.position, p.position + p.velocity * splat(batch.dt), &w->near.lo, &w->near.hi);
+  queue->takeLists(lanes, &w->lists);
+  const ChunkPlace place{0, queue->index, firstLanes(lanes)};
+  finishChunk(batch, place, p, stepListed(batch, w, laneMask(place.lanes), &p), deferred);
+  queue->drop(lanes);
 }
 
 // Through an index: each chunk lists its lanes' bodies; a chunk where at most half of them meet one

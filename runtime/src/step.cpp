@@ -339,6 +339,7 @@ void stepInLanes(const BatchKernels& kernels, const ScalarStep& scalar, std::siz
     batch.prepared = index->prepared.data();
     batch.bodies = scalar.bodies;
     batch.gatherable = body_count <= std::size_t(INT32_MAX) / (sizeof(StepBody) / sizeof(float));
+    batch.kinds = index->kindsHold(scalar.bodies) ? index->kinds.data() : nullptr;
     kernels.step(batch);
     return;
   }

@@ -71,6 +71,9 @@ struct StepBatch {
   const Body* bodies = nullptr;
   /// Whether the kernels may gather `prepared`'s numbers: 32-bit lane offsets reach every body's.
   bool gatherable = false;
+  /// The index's kinds of the bodies (BodyIndex::Impl::kinds) when they hold for this call, else null:
+  /// bodies of one kind step as one.
+  const std::int32_t* kinds = nullptr;
   void (*scalar)(const void* context, std::size_t n) = nullptr;
   /// The scalar path's move alone for particle n, after responses that left it `velocity` and touched
   /// `touch_body` at `touch_distance` (-1 and +infinity: none): what a lane whose walk needs more than
