@@ -175,9 +175,8 @@ DNG_LANE_INLINE void scatterLanes(const ParticleSpan& s, const std::size_t* inde
 // responses already acted (their velocities are kept); the walks sample their starts again (the same
 // numbers as the responses' samples).
 //
-// Out of line, as stepListed below: it runs once per Deferred::kCapacity particles, and inlined at each of its
-// callers it made stepLanes 132 KB of code (AVX-512) with its hot loop spread across it; out of line
-// the step's code is a fraction of that, and it runs faster (docs/RUNTIME.md, "SIMD").
+// Out of line, as stepListed below: it runs once per Deferred::kCapacity set-aside particles at most,
+// and inlined at each of its callers it made stepLanes 132 KB of code on AVX-512 (25 KB without it).
 __attribute__((noinline)) inline void finishDeferred(const StepBatch& batch, Deferred* io) {
   if (io->count == 0) return;
   const ParticleSpan& s = *batch.particles;
@@ -281,8 +280,9 @@ struct IndexScratch {
 
 // The chunk's responses and balls through its lanes' lists, `live` (near.lo, near.hi their move boxes):
 // slot by slot where the slots share fields and materials (slot_lanes.h), else the union way. Out of
-// line: one copy serves the queue and the whole chunks (inlined in both, stepThroughIndex was 455 KB of
-// code on AVX-512, and 13% slower through the index; bench/many_bodies_bench).
+// line: one copy serves the queue and the whole chunks. Inlined in both, and finishDeferred inlined
+// too, stepThroughIndex was 455 KB of code on AVX-512, and the index path 13% slower
+// (bench/many_bodies_bench).
 __attribute__((noinline)) inline ChunkStep stepListed(const StepBatch& batch, IndexScratch* w, M live,
                                                       LaneParticles* io) {
   if (!makeSlots(batch, w->lists, live, &w->slots)) return stepUnion(batch, &w->lists, &w->near, live, io);
