@@ -130,7 +130,7 @@ def table1_section(path, table_mesh="fandisk"):
     counts = sorted({n for (m, n, _) in rows if m == table_mesh})
     order = ["plain", "dngrid_nobody"] + ["dngrid_%s_%s" % (e, r) for e in ("dense", "bricked")
                                           for r in ("impact", "flow", "flow_swept")] + \
-        ["dngrid_bricked_exact_flow", "dngrid_bricked_flow_avx2"] + \
+        ["dngrid_bricked_exact_flow", "dngrid_bricked_flow_avx2", "dngrid_bricked_flow_proven"] + \
         ["embree_rtcIntersect%d" % w for w in (1, 4, 8, 16)] + ["nanovdb_nearest", "nanovdb_trilinear"]
     order = [c for c in order if (table_mesh, counts[0], c) in rows]
     first = rows[(table_mesh, counts[0], "plain")]
@@ -215,6 +215,13 @@ def table1_section(path, table_mesh="fandisk"):
               "registers of 16: docs/RUNTIME.md, \"SIMD\"). The same bricked impact+drag+flow step with the AVX2 "
               "kernels, what a CPU without AVX-512 runs: %.1f ns, %.2fx Embree's best (which itself runs its AVX-512 "
               "kernels here)." % (avx2, best["ns"] / avx2))
+    if (table_mesh, n, "dngrid_bricked_flow_proven") in rows:
+        proven = r("dngrid_bricked_flow_proven")
+        print("\n*Spawns the field proves*: the same step from a swarm whose spawn points the field also proves "
+              "outside (`Body::provesOutside`, as an emitter that asks spawns; the other rows keep every point the "
+              "mesh alone chose, as an emitter that does not ask would): %.1f ns, %.2fx Embree's best. A point "
+              "just outside a detail the field cannot resolve is blocked where it spawns, and its walk runs every "
+              "step it lives (docs/RUNTIME.md, \"Limits\"); on fandisk there are few." % (proven, best["ns"] / proven))
     print("\n*Where the time goes* (not part of this run: counters and a profile of a scratch build, fandisk, "
           "this table's swarm). About 85% of the step's time is the lanes' own work: each particle's response sample "
           "(brick-top entry, then pool word and shading normal) and the sample at the end of its move that proves "
@@ -235,9 +242,9 @@ def table1_section(path, table_mesh="fandisk"):
           "walks and 0.7% of particle-steps. On the sweep's detailed meshes 2-4% of particle-steps are handed "
           "over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and the scalar walks "
           "take up to about 40% of the time (dragon_res4: a third of their cycles on spawn points never proven "
-          "outside, and the 26-sample neighbour bound about a fifth of the step): that is why those meshes cost "
-          "about twice "
-          "fandisk's. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
+          "outside, and the 26-sample neighbour bound about a fifth of the step; a swarm of nothing but blocked "
+          "points costs about 320 ns per particle-step there): that is why those meshes cost about twice "
+          "fandisk's, and why the sweep's column of spawns the field proves costs less. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
           "what the field pays is fixed per sample.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
@@ -254,16 +261,20 @@ def table1_section(path, table_mesh="fandisk"):
           "sign and the judge's triangles can disagree about what is inside, and a crossing can come from the "
           "mesh rather than the method.\n"
           % (format(sweep_n, ","), len(meshes)))
-    print("| mesh | triangles | no collision | dngrid bricked, impact | dngrid bricked, impact+drag+flow | "
+    proven = all((m, sweep_n, "dngrid_bricked_flow_proven") in rows for m in meshes)
+    print("| mesh | triangles | no collision | dngrid bricked, impact | dngrid bricked, impact+drag+flow | " +
+          ("dngrid i+d+f, spawns the field proves | " if proven else "") +
           "Embree best | NanoVDB nearest | NanoVDB trilinear | Embree best / dngrid i+d+f | crossings: dngrid i+d+f, "
           "Embree best, NanoVDB nearest |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("|---|---:|---:|---:|---:|" + ("---:|" if proven else "") + "---:|---:|---:|---:|---:|")
     for mesh in meshes:
         g = lambda case: rows[(mesh, sweep_n, case)]
         best_case, best = embree_best(rows, mesh, sweep_n)
-        print("| %s | %s | %.1f | %.1f | %.1f | %.1f (%s) | %.1f | %.1f | %.2f | %d, %d, %s of %s |" % (
+        print("| %s | %s | %.1f | %.1f | %.1f |%s %.1f (%s) | %.1f | %.1f | %.2f | %d, %d, %s of %s |" % (
             mesh, format(g("plain")["triangles"], ","), g("plain")["ns"], g("dngrid_bricked_impact")["ns"],
-            g("dngrid_bricked_flow")["ns"], best["ns"], best_case.split("_")[1], g("nanovdb_nearest")["ns"],
+            g("dngrid_bricked_flow")["ns"],
+            " %.1f (%d) |" % (g("dngrid_bricked_flow_proven")["ns"], g("dngrid_bricked_flow_proven")["crossings"])
+            if proven else "", best["ns"], best_case.split("_")[1], g("nanovdb_nearest")["ns"],
             g("nanovdb_trilinear")["ns"], best["ns"] / g("dngrid_bricked_flow")["ns"],
             g("dngrid_bricked_flow")["crossings"], best["crossings"], format(g("nanovdb_nearest")["crossings"], ","),
             format(g("plain")["judged"], ",")))
@@ -275,6 +286,15 @@ def table1_section(path, table_mesh="fandisk"):
               format(rows[(meshes[0], sweep_n, "plain")]["triangles"], ","),
               format(rows[(meshes[-1], sweep_n, "plain")]["triangles"], ","), low, high, 100 * worst,
               verdict(worst <= 0.15)))
+    if proven:
+        low, high, worst = spread("dngrid_bricked_flow_proven")
+        ratios = [embree_best(rows, m, sweep_n)[1]["ns"] / rows[(m, sweep_n, "dngrid_bricked_flow_proven")]["ns"]
+                  for m in meshes]
+        print("\nFrom spawn points the field proves outside (the column beside it; in brackets its crossings of "
+              "as many segments judged) the same step takes %.1f to %.1f ns, at most %.0f%% from their median, "
+              "and runs %.2fx to %.2fx as fast as Embree's best on the same mesh. The difference is the spawn points "
+              "the field cannot prove outside: each is blocked where it spawns and handed to the scalar walk "
+              "every step it lives." % (low, high, 100 * worst, min(ratios), max(ratios)))
     if all((m, sweep_n, "dngrid_bricked_exact_flow") in rows for m in meshes):
         low, high, worst = spread("dngrid_bricked_exact_flow")
         ratios = [embree_best(rows, m, sweep_n)[1]["ns"] / rows[(m, sweep_n, "dngrid_bricked_exact_flow")]["ns"]

@@ -44,6 +44,7 @@ const File& fieldOf(const MeshScene& scene, const Case& c) {
 std::string caseId(const Case& c) {
   const std::string field = c.dense ? "dngrid_dense_" : c.exact ? "dngrid_bricked_exact_" : "dngrid_bricked_";
   if (c.avx2) return field + "flow_avx2";
+  if (c.proven) return field + "flow_proven";
   switch (c.method) {
   case Method::kPlain: return "plain";
   case Method::kNoBody: return "dngrid_nobody";
@@ -63,6 +64,7 @@ std::string caseId(const Case& c) {
 std::string caseLabel(const Case& c) {
   const std::string field = c.dense ? "dngrid dense, " : c.exact ? "dngrid bricked exact, " : "dngrid bricked, ";
   if (c.avx2) return field + "impact+drag+flow, AVX2 lanes";
+  if (c.proven) return field + "impact+drag+flow, spawns the field proves";
   switch (c.method) {
   case Method::kPlain: return "no collision (plain loop)";
   case Method::kNoBody: return "dngrid stepParticles, no body";
@@ -127,7 +129,8 @@ std::size_t caseBytes(const MeshScene& scene, const Case& c) {
 }
 
 Simulation::Simulation(const MeshScene& scene, const Case& c, std::size_t particles)
-    : spawn(scene.spawn(particles)), swarm(spawn), stepper(stepperFor(scene, c)), gravity(gravityFor(scene.voxel)) {}
+    : spawn(scene.spawn(particles, c.proven)), swarm(spawn), stepper(stepperFor(scene, c)),
+      gravity(gravityFor(scene.voxel)) {}
 
 void Simulation::prepare() {
   respawn(spawn, steps++, &swarm);

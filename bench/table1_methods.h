@@ -36,6 +36,9 @@ struct Case {
   bool dense = false; ///< dngrid only: the dense field instead of the bricked one
   bool exact = false; ///< dngrid only: a bricked field baked in exact mode instead of the default normal-blur
   bool avx2 = false;  ///< dngrid only: the AVX2 kernels instead of the best this CPU has (where that is AVX-512)
+  /// dngrid only: spawn points limited to those the field proves outside (Body::provesOutside), as an
+  /// emitter that asks spawns; every other case keeps the spawn points the mesh alone chose.
+  bool proven = false;
 
   bool usesField() const {
     return method == Method::kImpact || method == Method::kImpactDragFlow || method == Method::kImpactDragFlowSwept;

@@ -71,10 +71,17 @@ bool buildScene(const std::string& path, MeshScene* scene, std::string* error) {
 
 } // namespace
 
-const Swarm& MeshScene::spawn(std::size_t count) const {
-  auto it = spawns_.find(count);
-  if (it == spawns_.end())
-    it = spawns_.emplace(count, spawnNearSurface(vertices, triangles, judge, voxel, outward, count, kSpawnSeed)).first;
+const Swarm& MeshScene::spawn(std::size_t count, bool proven) const {
+  const std::pair<std::size_t, bool> key{count, proven};
+  auto it = spawns_.find(key);
+  if (it == spawns_.end()) {
+    Body prover; // the field alone decides: a body with the default material and transform
+    const bool asks = proven && Body::create(&bricked.view(), Material{}, &prover) == Status::kOk;
+    it = spawns_
+             .emplace(key, spawnNearSurface(vertices, triangles, judge, voxel, outward, count, kSpawnSeed,
+                                            asks ? &prover : nullptr))
+             .first;
+  }
   return it->second;
 }
 

@@ -32,11 +32,12 @@ struct MeshScene {
   EmbreeCaster caster;
   nanovdb::GridHandle<nanovdb::HostBuffer> levelset;
 
-  /// The spawn states of a swarm of `count` particles (table1_swarm.h), made once per count.
-  const Swarm& spawn(std::size_t count) const;
+  /// The spawn states of a swarm of `count` particles (table1_swarm.h), made once per count; with
+  /// `proven`, only points the bricked field proves outside (Body::provesOutside).
+  const Swarm& spawn(std::size_t count, bool proven = false) const;
 
 private:
-  mutable std::map<std::size_t, Swarm> spawns_;
+  mutable std::map<std::pair<std::size_t, bool>, Swarm> spawns_;
 };
 
 /// The fields a case may ask for beyond the default bricked one.

@@ -48,7 +48,7 @@ std::vector<double> cumulativeAreas(const std::vector<Vec3f>& vertices,
 
 Swarm spawnNearSurface(const std::vector<Vec3f>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
                        const reference::MeshReference& judge, float voxel, float outward, std::size_t count,
-                       std::uint32_t seed) {
+                       std::uint32_t seed, const Body* prover) {
   const std::vector<double> areas = cumulativeAreas(vertices, triangles);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pick(0.0, areas.back());
@@ -74,7 +74,8 @@ Swarm spawnNearSurface(const std::vector<Vec3f>& vertices, const std::vector<std
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.size()), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t n = r.begin(); n != r.end(); ++n) {
         const reference::Closest closest = judge.closest(batch[n].p, batch[n].height);
-        batch[n].keep = closest.found && closest.distance >= 0.9f * batch[n].height && !judge.inside(batch[n].p);
+        batch[n].keep = closest.found && closest.distance >= 0.9f * batch[n].height && !judge.inside(batch[n].p) &&
+                        (prover == nullptr || prover->provesOutside(batch[n].p));
       }
     });
     for (const Candidate& c : batch)

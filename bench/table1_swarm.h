@@ -3,6 +3,7 @@
 // the plain gravity + integration loop every method is measured against.
 #pragma once
 
+#include "dng/body.h"
 #include "dng/particles.h"
 #include "mesh_reference.h"
 
@@ -43,10 +44,11 @@ struct Swarm {
 /// mesh is wound inside out) by kSpawnNearVoxels..kSpawnFarVoxels,
 /// kept only where no other part of the surface is nearer (so the point is really that far from the
 /// mesh) and ray parity says outside, with a random velocity of up to kSpawnVoxelsPerStep. In random order, as an
-/// emitter produces them. Deterministic for a given seed.
+/// emitter produces them. With `prover` set, only points its field proves outside (Body::provesOutside)
+/// are kept as well, as an emitter that asks spawns. Deterministic for a given seed.
 Swarm spawnNearSurface(const std::vector<Vec3f>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
                        const reference::MeshReference& judge, float voxel, float outward, std::size_t count,
-                       std::uint32_t seed);
+                       std::uint32_t seed, const Body* prover = nullptr);
 
 /// Step `step`'s respawn: the slice (step mod kLifetime) of the swarm goes back to its spawn states.
 /// Part of every method's timed step (the plain loop's too), so it costs all of them the same.

@@ -93,11 +93,12 @@ struct BatchKernels {
   void (*sample_accurate)(const View& view, const float* points, std::size_t stride, std::size_t count,
                           Sample* out_samples);
   void (*step)(const StepBatch& batch);
-  /// walk.cpp's neighbour bound over `points`: max(-reach, value - gap) over the 26, where a cell's
-  /// value is its sample's distance capped at reach (reach where there is no field), far inside cells
-  /// left out. Writes each point's own term, value - gap (-infinity for far inside cells), to
-  /// out_terms[0..kPadded).
-  float (*neighbour_bound)(const View& view, const NeighbourPoints& points, float reach, float* out_terms);
+  /// walk.cpp's neighbour bound over the points `axes` make: max(-reach, value - gap) over the 26,
+  /// where a cell's value is its sample's distance capped at reach (reach where there is no field), far
+  /// inside cells left out. Writes the points to out_points and each one's own term, value - gap
+  /// (-infinity for far inside cells), to out_terms[0..kPadded).
+  float (*neighbour_bound)(const View& view, const NeighbourAxes& axes, float reach, NeighbourPoints* out_points,
+                           float* out_terms);
 };
 
 /// Whether the kernels may take a view: their 32-bit lane indices reach every byte of one under 8 GiB.

@@ -59,48 +59,37 @@ float cellExit(const GridInfo& g, float inv_h, Vec3f a, Vec3f d, float t) {
 
 WalkResult stopAt(WalkStop stop, float t, Vec3f normal) { return {stop, t, normal}; }
 
-// The 26 neighbours' sides per axis (0 below, 1 level, 2 above), in the order x fastest, skipping p's
-// own cell: a table, so building the points does no index arithmetic.
-struct NeighbourSides {
-  std::uint8_t side[NeighbourPoints::kCount][3];
-};
-constexpr NeighbourSides neighbourSides() {
-  NeighbourSides t{};
-  int c = 0;
-  for (int n = 0; n < 27; ++n) {
-    if (n == 13) continue; // p's own cell
-    t.side[c][0] = std::uint8_t(n % 3), t.side[c][1] = std::uint8_t((n / 3) % 3), t.side[c][2] = std::uint8_t(n / 9);
-    ++c;
-  }
-  return t;
-}
-constexpr NeighbourSides kNeighbours = neighbourSides();
-
-// The cells around p's own: for each, the point of the cell nearest p (just past the wall between
-// the two) and how far p is from it. Per axis a neighbour lies below (0), level with (1) or above (2)
-// p's cell; level, it takes p's own coordinate and adds nothing to the squared gap.
-NeighbourPoints neighboursOf(const GridInfo& g, Vec3f p) {
+// The neighbours' coordinates and squared gaps per axis (walk.h NeighbourAxes): per axis a neighbour's
+// point is just past the wall between its cell and p's (below or above), or p's own coordinate.
+NeighbourAxes neighbourAxes(const GridInfo& g, Vec3f p) {
   const float h = g.voxel_size, inv_h = 1.0f / h;
   constexpr float kInto = 1e-3f; // voxel units past a wall, so the sample lands in the other cell
-  float coord[3][3], term[3][3];
+  NeighbourAxes out;
   for (int axis = 0; axis < 3; ++axis) {
     const float origin = component(g.origin, axis);
     const float u = (component(p, axis) - origin) * inv_h, cell = std::floor(u);
     const float below = cell - kInto, above = cell + 1.0f + kInto;
-    coord[axis][0] = origin + below * h, coord[axis][1] = component(p, axis), coord[axis][2] = origin + above * h;
-    term[axis][0] = (u - below) * (u - below), term[axis][1] = 0.0f, term[axis][2] = (u - above) * (u - above);
+    out.coord[axis][0] = origin + below * h, out.coord[axis][1] = component(p, axis);
+    out.coord[axis][2] = origin + above * h;
+    out.term[axis][0] = (u - below) * (u - below), out.term[axis][1] = 0.0f;
+    out.term[axis][2] = (u - above) * (u - above);
   }
+  return out;
+}
+
+// The cells around p's own: for each, the point of the cell nearest p and how far p is from it. The
+// SIMD kernels build the same points in lanes (neighbour_lanes.h).
+NeighbourPoints neighboursOf(const NeighbourAxes& axes, float h) {
   NeighbourPoints out;
   float gap2[NeighbourPoints::kPadded];
-  // Unrolled, the table's entries become constant offsets: this runs for every cramped walk sample.
-#pragma GCC unroll 26
-  for (int c = 0; c < NeighbourPoints::kCount; ++c) {
-    const int i = kNeighbours.side[c][0], j = kNeighbours.side[c][1], k = kNeighbours.side[c][2];
-    out.x[c] = coord[0][i], out.y[c] = coord[1][j], out.z[c] = coord[2][k];
-    gap2[c] = term[0][i] + term[1][j] + term[2][k]; // + 0 leaves a sum's bits as they are
+  // Unrolled, the table's entries become constant offsets.
+#pragma GCC unroll 32
+  for (int c = 0; c < NeighbourPoints::kPadded; ++c) {
+    const int i = int(kNeighbourSides.side[0][c]), j = int(kNeighbourSides.side[1][c]),
+              k = int(kNeighbourSides.side[2][c]);
+    out.x[c] = axes.coord[0][i], out.y[c] = axes.coord[1][j], out.z[c] = axes.coord[2][k];
+    gap2[c] = axes.term[0][i] + axes.term[1][j] + axes.term[2][k]; // + 0 leaves a sum's bits as they are
   }
-  for (int k = NeighbourPoints::kCount; k < NeighbourPoints::kPadded; ++k)
-    out.x[k] = out.x[0], out.y[k] = out.y[0], out.z[k] = out.z[0], gap2[k] = gap2[0];
   for (int k = 0; k < NeighbourPoints::kPadded; ++k)
     out.gap[k] = std::sqrt(gap2[k]) * h;
   return out;
@@ -111,11 +100,16 @@ NeighbourPoints neighboursOf(const GridInfo& g, Vec3f p) {
 // point nearest p, less the distance to it, bounds it at p too. This is what proves a point outside
 // when its own cell's plane cannot: near a convex edge the plane of the face the voxel centre is
 // closest to reads far below zero just outside the other face.
-// Each point's own term, value - gap (-infinity for far inside cells), goes to out_terms.
-float neighbourBound(const View& field, float reach, const NeighbourPoints& points, float* out_terms) {
-  // The SIMD kernels take the 26 samples in lanes (dng/instruction_set.h), with the same result.
+// Each point's own term, value - gap (-infinity for far inside cells), goes to out_terms, and the
+// points themselves to out_points.
+float neighbourBound(const View& field, float reach, Vec3f p, NeighbourPoints* out_points, float* out_terms) {
+  const NeighbourAxes axes = neighbourAxes(field.grid(), p);
+  // The SIMD kernels build the points and take the 26 samples in lanes (dng/instruction_set.h), with
+  // the same result.
   const BatchKernels* kernels = activeBatchKernels();
-  if (kernels != nullptr && batchIndexable(field)) return kernels->neighbour_bound(field, points, reach, out_terms);
+  if (kernels != nullptr && batchIndexable(field))
+    return kernels->neighbour_bound(field, axes, reach, out_points, out_terms);
+  const NeighbourPoints& points = *out_points = neighboursOf(axes, field.grid().voxel_size);
   float best = -reach;
   for (int k = 0; k < NeighbourPoints::kCount; ++k) {
     const Sample s = planeAt(field, {points.x[k], points.y[k], points.z[k]});
@@ -129,8 +123,9 @@ float neighbourBound(const View& field, float reach, const NeighbourPoints& poin
 }
 
 float neighbourBound(const View& field, float reach, Vec3f p) {
+  NeighbourPoints points;
   float terms[NeighbourPoints::kPadded];
-  return neighbourBound(field, reach, neighboursOf(field.grid(), p), terms);
+  return neighbourBound(field, reach, p, &points, terms);
 }
 
 // How far (in t) the segment a + d t may go from t while a neighbour's plane keeps it `margin` clear:
@@ -331,9 +326,9 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       continue;
     }
     // This cell's plane cannot clear the way: ask the cells around the point.
-    const NeighbourPoints around = neighboursOf(g, p);
+    NeighbourPoints around;
     float terms[NeighbourPoints::kPadded];
-    const float bound = neighbourBound(field, reach, around, terms);
+    const float bound = neighbourBound(field, reach, p, &around, terms);
     if (bound >= proof_level) proof = t;
     clear = bound - margin;
     if (clear > 0.0f) { // the bound's ball, or the sliding plane of the neighbour that gave it

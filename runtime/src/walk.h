@@ -54,6 +54,34 @@ struct NeighbourPoints {
   alignas(64) float x[kPadded], y[kPadded], z[kPadded], gap[kPadded];
 };
 
+/// What the neighbour points are made of, per axis: a neighbour lies below (0), level with (1) or above
+/// (2) p's cell, and for each of the three, `coord` is the coordinate of its point nearest p (local
+/// units; level, p's own) and `term` that coordinate's part of the squared gap (voxel units; level, 0).
+/// A point's gap is sqrt(term[0][i] + term[1][j] + term[2][k]) voxels, summed in that order.
+struct NeighbourAxes {
+  float coord[3][3];
+  float term[3][3];
+};
+
+/// Each neighbour's side per axis (NeighbourAxes), x fastest, p's own cell skipped; the padding takes
+/// the first neighbour's sides. Floats, so SIMD lanes load them as they are.
+struct NeighbourSides {
+  alignas(64) float side[3][NeighbourPoints::kPadded];
+};
+constexpr NeighbourSides makeNeighbourSides() {
+  NeighbourSides t{};
+  int c = 0;
+  for (int n = 0; n < 27; ++n) {
+    if (n == 13) continue; // p's own cell
+    t.side[0][c] = float(n % 3), t.side[1][c] = float((n / 3) % 3), t.side[2][c] = float(n / 9);
+    ++c;
+  }
+  for (; c < NeighbourPoints::kPadded; ++c)
+    t.side[0][c] = t.side[0][0], t.side[1][c] = t.side[1][0], t.side[2][c] = t.side[2][0];
+  return t;
+}
+inline constexpr NeighbourSides kNeighbourSides = makeNeighbourSides();
+
 /// Whether a walk from the local point `p` can leave it: its own plane, its second bound or a
 /// neighbour's bound reads at least walkProofLevel there, or the point is beyond the field's band or
 /// grid. walkSegment blocks a start where this is false in every direction (but in far inside voxels).
