@@ -455,6 +455,50 @@ TEST(InstructionSet, StepGivesTheScalarResultsWhenMostWalksGoCellByCell) {
   expectSameSteps({makeBody(field.view, everyRule())}, skimmingSwarm(box, 2001, 21));
 }
 
+// `count` particles within 0.3 voxel of the surface of `shape`, `body`'s field, that the body cannot prove
+// outside (Body::provesOutside), moving at up to one voxel per step in random directions: the walk
+// blocks each where it stands, and the kernels settle that stop without handing the walk over.
+Swarm unprovenSwarm(const AnalyticField& shape, const Body& body, std::size_t count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> coord(-12.0f, 12.0f), unit(-1.0f, 1.0f);
+  Swarm out;
+  while (out.particles.size() < count) {
+    const Vec3f local{coord(rng), coord(rng), coord(rng)};
+    if (!(std::fabs(shape(local).distance) < 0.3f)) continue;
+    const Vec3f p = body.toWorld(local);
+    if (body.provesOutside(p)) continue;
+    const Vec3f v = normalizeOrZero({unit(rng), unit(rng), unit(rng)}) * (1.0f / kDt * std::fabs(unit(rng)));
+    out.particles.push_back({{p.x, p.y, p.z}, 0.0f, {v.x, v.y, v.z}, 0.0f});
+  }
+  out.contact.assign(count, 7);
+  out.body.assign(count, 99);
+  return out;
+}
+
+TEST(InstructionSet, StepGivesTheScalarResultsForParticlesTheFieldCannotProveOutside) {
+  const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+  Field field(box, false);
+  const Body still = makeBody(field.view, everyRule());
+  const Swarm unproven = unprovenSwarm(box, still, 1001, 31);
+  expectSameSteps({still}, unproven);
+  // Most of them are blocked, so the comparison covers that stop: they do not move.
+  Swarm stepped = unproven;
+  ASSERT_EQ(stepParticles(stepped.span(), kDt, &still, 1), Status::kOk);
+  std::size_t stayed = 0;
+  for (std::size_t n = 0; n < stepped.particles.size(); ++n) {
+    const float* a = unproven.particles[n].position;
+    const float* b = stepped.particles[n].position;
+    stayed += std::fabs(a[0] - b[0]) + std::fabs(a[1] - b[1]) + std::fabs(a[2] - b[2]) < 1e-4f;
+  }
+  EXPECT_GT(stayed, unproven.particles.size() / 2);
+  // On a moving body a blocked particle is carried with it.
+  Body moving = still;
+  const float quaternion[4] = {0.9f, 0.1f, -0.3f, 0.2f};
+  ASSERT_EQ(moving.setTransform({1.0f, -2.0f, 0.5f}, quaternion, 0.8f), Status::kOk);
+  moving.setVelocity({30.0f, -12.0f, 5.0f}, {0.5f, 2.0f, -1.0f});
+  expectSameSteps({moving}, unprovenSwarm(box, moving, 1001, 32));
+}
+
 TEST(InstructionSet, StepGivesTheScalarResultsOnAMovingSpinningScaledBody) {
   const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
   Field field(box, false);

@@ -203,14 +203,32 @@ __attribute__((noinline)) inline void finishDeferred(const StepBatch& batch, Def
       prepareListed(batch, nullptr, &listed);
       bodies = &listed;
     }
-    const LaneBits done = bits(moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells));
+    // With one body, the lanes that ask the neighbours at their start: the bound goes with the walk
+    // handed over, and a walk it blocks is that body's stop, settled without walking. (With more
+    // bodies, an earlier body's stop could come first.)
+    StartLanes start{andNot(live, live), {}};
+    const LaneBits done =
+        bits(moveLanes(*bodies, live, p, end, nullptr, WalkPart::kCells, bodies->count == 1 ? &start : nullptr));
     I touch;
     std::memcpy(&touch, io->touch + from, sizeof touch);
     scatterLanes(s, index, end, p.velocity, touch, done);
+    const LaneBits asks = bits(start.lanes) & on & ~done;
+    Lanes3 local;
+    if (asks != 0) store(local.x, start.local.x), store(local.y, start.local.y), store(local.z, start.local.z);
     for (LaneBits rest = on & ~done; rest != 0; rest &= rest - 1) { // the scalar path's move, after these responses
-      const std::size_t k = from + std::size_t(lowestLane(rest));
-      batch.scalar_move(batch.context, io->index[k], {io->vx[k], io->vy[k], io->vz[k]}, io->touch[k],
-                        io->touch_distance[k]);
+      const int lane = lowestLane(rest);
+      const std::size_t k = from + std::size_t(lane);
+      const Vec3f velocity{io->vx[k], io->vy[k], io->vz[k]};
+      if (!(asks & laneBit(lane))) {
+        batch.scalar_move(batch.context, io->index[k], velocity, io->touch[k], io->touch_distance[k], nullptr, 0);
+        continue;
+      }
+      const std::size_t body = std::size_t(bodies->index[0]);
+      StartBound bound;
+      if (startBound(*bodies->body[0], {local.x[lane], local.y[lane], local.z[lane]}, &bound))
+        batch.scalar_block(batch.context, io->index[k], velocity, io->touch[k], io->touch_distance[k], body);
+      else
+        batch.scalar_move(batch.context, io->index[k], velocity, io->touch[k], io->touch_distance[k], &bound, body);
     }
   }
   io->count = 0;

@@ -173,9 +173,15 @@ struct Stop {
   Vec3f position; // world, on the blocking body as it stands at the end of the step
 };
 
+// A neighbour bound at the start of the walk through one body, taken by the SIMD kernels.
+struct HandedBound {
+  std::size_t body = 0;
+  const StartBound* bound = nullptr;
+};
+
 // Walks the world move start -> end through every colliding body near it, in each body's frame.
 Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start, Vec3f end,
-               const KeptSamples* kept) {
+               const KeptSamples* kept, HandedBound handed = {}) {
   Stop first;
   // The box segmentNearBounds tests, so the broadphase lists every body the test can pass (the lanes
   // compute the same box: span_lanes.h).
@@ -194,7 +200,8 @@ Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& mo
     const int samples = walkSamples(body);
     Sample kept_sample;
     const bool reuse = kept != nullptr && kept->find(b, &kept_sample);
-    const WalkResult walk = walkSegment(*body.field(), a, delta, reuse ? &kept_sample : nullptr, margin, samples);
+    const WalkResult walk = walkSegment(*body.field(), a, delta, reuse ? &kept_sample : nullptr, margin, samples,
+                                        handed.body == b ? handed.bound : nullptr);
     if (walk.stop == WalkStop::kClear || walk.t >= first.t) return;
     first = {std::int32_t(b), walk.t, walk, end_pose.toWorld(a + delta * walk.t)};
   });
@@ -215,16 +222,10 @@ Vec3f bounce(const Body& body, const Pose& end_pose, const Stop& stop, Vec3f vel
   return relative + surface;
 }
 
-// Moves the particle by v dt without crossing any colliding body.
-void move(const Body* bodies, const NearBodies& near, const BodyMotions& motions, float dt, const KeptSamples& kept,
-          ParticleState* io, Touch* io_touch) {
-  const Vec3f start = io->position;
-  const Vec3f end = start + io->velocity * dt;
-  const Stop stop = firstStop(bodies, near, motions, start, end, &kept);
-  if (stop.body < 0) {
-    io->position = end;
-    return;
-  }
+// The particle's move from `start` to `end` that `stop` ends: it stays there, bounces off the stop
+// and, off a plane, slides along it.
+void settle(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start, Vec3f end,
+            const Stop& stop, ParticleState* io, Touch* io_touch) {
   const Body& body = bodies[stop.body];
   BodyMotion scratch;
   const Pose& pose = motions.get(std::size_t(stop.body), &scratch).end;
@@ -238,6 +239,19 @@ void move(const Body* bodies, const NearBodies& near, const BodyMotions& motions
   const Vec3f rest = (end - start) * (1.0f - stop.t);
   const Vec3f slid = stop.position + rest - n * minOf(dot(rest, n), 0.0f);
   if (firstStop(bodies, near, motions, start, slid, nullptr).body < 0) io->position = slid;
+}
+
+// Moves the particle by v dt without crossing any colliding body.
+void move(const Body* bodies, const NearBodies& near, const BodyMotions& motions, float dt, const KeptSamples& kept,
+          ParticleState* io, Touch* io_touch, HandedBound handed = {}) {
+  const Vec3f start = io->position;
+  const Vec3f end = start + io->velocity * dt;
+  const Stop stop = firstStop(bodies, near, motions, start, end, &kept, handed);
+  if (stop.body < 0) {
+    io->position = end;
+    return;
+  }
+  settle(bodies, near, motions, start, end, stop, io, io_touch);
 }
 
 Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_t body_count, Diagnostic* diag) {
@@ -266,8 +280,9 @@ struct ScalarStep {
 };
 
 // The end of a particle's step: its move after the responses, then its state and touched body written.
-void moveAndStore(const ScalarStep& step, std::size_t n, const KeptSamples& kept, ParticleState state, Touch touch) {
-  move(step.bodies, *step.near, *step.motions, step.dt, kept, &state, &touch);
+void moveAndStore(const ScalarStep& step, std::size_t n, const KeptSamples& kept, ParticleState state, Touch touch,
+                  HandedBound handed = {}) {
+  move(step.bodies, *step.near, *step.motions, step.dt, kept, &state, &touch, handed);
   store(*step.particles, n, state);
   writeTouch(*step.particles, n, touch.body);
 }
@@ -284,11 +299,36 @@ void stepOne(const void* context, std::size_t n) {
 
 // stepOne's move alone, after the lanes' responses (StepBatch::scalar_move). Without the responses'
 // samples the walks sample their starts themselves: the same numbers.
-void moveOne(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body, float touch_distance) {
+void moveOne(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body, float touch_distance,
+             const StartBound* start_bound, std::size_t bound_body) {
   const ScalarStep& step = *static_cast<const ScalarStep*>(context);
   ParticleState state = load(*step.particles, n);
   state.velocity = velocity;
-  moveAndStore(step, n, KeptSamples(), state, Touch{touch_body, touch_distance});
+  moveAndStore(step, n, KeptSamples(), state, Touch{touch_body, touch_distance}, {bound_body, start_bound});
+}
+
+// moveOne for a particle whose walk through body `b`, the only one its move meets, the lanes found
+// blocked at its start (walkSegment's kReverse at t = 0): the stop that walk returns, settled as move
+// settles it, without walking again.
+void blockOne(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body, float touch_distance,
+              std::size_t b) {
+  const ScalarStep& step = *static_cast<const ScalarStep*>(context);
+  ParticleState state = load(*step.particles, n);
+  state.velocity = velocity;
+  Touch touch{touch_body, touch_distance};
+  const Vec3f start = state.position;
+  const Vec3f end = start + state.velocity * step.dt;
+  // The numbers firstStop gives this walk's stop.
+  const Body& body = step.bodies[b];
+  BodyMotion scratch;
+  const Pose& end_pose = step.motions->get(b, &scratch).end;
+  const Vec3f a = body.toLocal(start);
+  const Vec3f delta = end_pose.toLocal(end) - a;
+  const WalkResult walk{WalkStop::kReverse, 0.0f, delta * (-1.0f / length(delta))};
+  const Stop stop{std::int32_t(b), walk.t, walk, end_pose.toWorld(a + delta * walk.t)};
+  settle(step.bodies, *step.near, *step.motions, start, end, stop, &state, &touch);
+  store(*step.particles, n, state);
+  writeTouch(*step.particles, n, touch.body);
 }
 
 // The batch kernels take up to kMaxBatchBodies bodies, or any number through an index, whose fields
@@ -332,6 +372,7 @@ void stepInLanes(const BatchKernels& kernels, const ScalarStep& scalar, std::siz
   batch.dt = scalar.dt;
   batch.scalar = &stepOne;
   batch.scalar_move = &moveOne;
+  batch.scalar_block = &blockOne;
   batch.context = &scalar;
   if (body_count > kMaxBatchBodies) { // kernelsFor took it: there is an index
     const IndexGrid grid = gridOf(*index);

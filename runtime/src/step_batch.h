@@ -78,9 +78,16 @@ struct StepBatch {
   /// The scalar path's move alone for particle n, after responses that left it `velocity` and touched
   /// `touch_body` at `touch_distance` (-1 and +infinity: none): what a lane whose walk needs more than
   /// the lanes do hands over, without the responses done again.
-  void (*scalar_move)(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body,
-                      float touch_distance) = nullptr;
-  const void* context = nullptr; ///< for `scalar` and `scalar_move`
+  /// `start_bound`, when not null, is the neighbour bound at the start of its walk through body
+  /// `bound_body` (walk.h StartBound).
+  void (*scalar_move)(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body, float touch_distance,
+                      const StartBound* start_bound, std::size_t bound_body) = nullptr;
+  /// scalar_move for a particle whose walk through body `body`, the only one its move meets, is blocked
+  /// at its start (walk.h: the field cannot prove the start outside, walkSegment's kReverse at t = 0):
+  /// the same stop, settled without the walk.
+  void (*scalar_block)(const void* context, std::size_t n, Vec3f velocity, std::int32_t touch_body,
+                       float touch_distance, std::size_t body) = nullptr;
+  const void* context = nullptr; ///< for `scalar`, `scalar_move` and `scalar_block`
 };
 
 /// The kernels of one instruction set.

@@ -314,15 +314,33 @@ DNG_LANE_INLINE M endProven(const View& field, V3 end, const LaneSample& e, M m,
   return proven;
 }
 
+// The lanes whose walk (walk.cpp walkSegment) asks the neighbours at its start: there its own planes
+// prove nothing, read below the proof level and are not far inside. `local`: the starts in the body's
+// frame, as the walk samples them.
+struct StartLanes {
+  M lanes;
+  V3 local;
+};
+
+// The neighbour bound at such a start, and whether it blocks the walk there (walkSegment's kReverse at
+// t = 0): when it neither proves the start outside nor leaves it room. The bound is walk.cpp's, taken
+// by the same kernel, so a walk handed over with it reads the same numbers.
+template <class Body> DNG_LANE_INLINE bool startBound(const Body& sb, Vec3f local, StartBound* out) {
+  const View& field = *sb.field;
+  out->bound = neighbourBound(field, neighbourAxes(field.grid(), local), sb.reach, &out->points, out->terms);
+  return out->bound < sb.proof_level && !(out->bound - sb.margin > 0.0f);
+}
+
 // walkSegment (walk.cpp) through body `sb` for the lanes `near` it, from `a` (the start in the body's
 // start-of-step frame) to `end` (world), as far as its cases that only advance go: balls, the two-ball
 // test, cell planes that stay clear to the cell's wall, the end point's proof (`part` says which).
 // Returns the lanes it proves clear; every other near lane needs another part or the scalar walk (a
 // stop, a slide, a neighbour bound, a clip at the grid's edge, a walk out of samples). Any subset of
-// walkSegment's cases proves only what walkSegment proves, so the parts give the scalar bits.
+// walkSegment's cases proves only what walkSegment proves, so the parts give the scalar bits. With
+// `out_start` (kCells only), also the lanes that ask the neighbours at their start (StartLanes).
 template <class Body>
 DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const LaneSample* kept, M kept_valid, M near,
-                            WalkPart part) {
+                            WalkPart part, StartLanes* out_start = nullptr) {
   const View& field = *sb.field;
   const GridInfo& g = field.grid();
   const V3 delta = toLocal(sb.end, end) - a;
@@ -373,6 +391,7 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
     CellLanes c = planCellLanes(g, inv_h, a, delta, t, t_end, len, here, nullptr, live, reach, margin, proof, roomy);
     // Where the cell's plane stops the walk or proves nothing, its second bound may read higher.
     const M retry = (c.stop | c.nothing(live)) & here.in_band;
+    LaneSample cell = here; // the sample the cell's plan rests on
     if (second_planes && any(retry)) {
       OtherLanes other;
       const LaneSample better = secondBoundLanes(field, p, here, retry, &other);
@@ -381,7 +400,15 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
         const CellLanes second =
             planCellLanes(g, inv_h, a, delta, t, t_end, len, better, &other, upgraded, reach, margin, proof, roomy);
         c = merge(upgraded, second, c);
+        cell = merge(upgraded, better, here);
       }
+    }
+    // At the start, where the planes prove nothing and read below the proof level, walkSegment asks the
+    // neighbours, and stops there when they cannot prove the start either (but in far inside cells).
+    if (out_start != nullptr && n == 0) {
+      out_start->lanes =
+          andNot(c.nothing(live) & ~(t != zero), cell.far_inside | (minOf(reach, cell.distance) >= proof));
+      out_start->local = p;
     }
     // One ball covers the rest: clear when it leaves room, or when the end proves itself outside.
     clear = clear | c.roomy_end;
@@ -403,7 +430,7 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
 // response sample, or null. Returns the lanes of `done` that stay proven clear.
 template <class Body>
 DNG_LANE_INLINE M walkThroughBody(const Body& b, const Material& material, M done, const LaneParticles& p, V3 end,
-                                  const KeptSample* kept, WalkPart part) {
+                                  const KeptSample* kept, WalkPart part, StartLanes* out_start = nullptr) {
   if (!collides(material)) return done;
   const M near = done & nearBounds(b, p.position, end);
   if (!any(near)) return done;
@@ -411,18 +438,20 @@ DNG_LANE_INLINE M walkThroughBody(const Body& b, const Material& material, M don
   const bool has_kept = kept != nullptr && any(kept->valid);
   const M kept_valid = has_kept ? kept->valid : andNot(done, done);
   const V3 a = has_kept ? kept->local : toLocal(b.start, p.position);
-  return done & walkLanes(b, walkSamples(material), a, end, has_kept ? &kept->sample : nullptr, kept_valid, near, part);
+  return done & walkLanes(b, walkSamples(material), a, end, has_kept ? &kept->sample : nullptr, kept_valid, near, part,
+                          out_start);
 }
 
 // The move's walks through the listed bodies, for the lanes `live`: the lanes every one proves clear
-// by the walk's `part`. `kept`: the responses' samples, or null (the walks sample their starts).
+// by the walk's `part`. `kept`: the responses' samples, or null (the walks sample their starts). With
+// `out_start` (kCells, a list of one body), also the lanes that ask the neighbours at their start.
 DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p, V3 end, const KeptLanes* kept,
-                            WalkPart part) {
+                            WalkPart part, StartLanes* out_start = nullptr) {
   M done = live;
   for (std::size_t k = 0; k < list.count && any(done); ++k) {
     const std::int32_t r = list.kept[k];
     done = walkThroughBody(*list.body[k], *list.material[k], done, p, end,
-                           kept != nullptr && r >= 0 ? &kept->body[r] : nullptr, part);
+                           kept != nullptr && r >= 0 ? &kept->body[r] : nullptr, part, out_start);
   }
   return done;
 }

@@ -59,24 +59,6 @@ float cellExit(const GridInfo& g, float inv_h, Vec3f a, Vec3f d, float t) {
 
 WalkResult stopAt(WalkStop stop, float t, Vec3f normal) { return {stop, t, normal}; }
 
-// The neighbours' coordinates and squared gaps per axis (walk.h NeighbourAxes): per axis a neighbour's
-// point is just past the wall between its cell and p's (below or above), or p's own coordinate.
-NeighbourAxes neighbourAxes(const GridInfo& g, Vec3f p) {
-  const float h = g.voxel_size, inv_h = 1.0f / h;
-  constexpr float kInto = 1e-3f; // voxel units past a wall, so the sample lands in the other cell
-  NeighbourAxes out;
-  for (int axis = 0; axis < 3; ++axis) {
-    const float origin = component(g.origin, axis);
-    const float u = (component(p, axis) - origin) * inv_h, cell = std::floor(u);
-    const float below = cell - kInto, above = cell + 1.0f + kInto;
-    out.coord[axis][0] = origin + below * h, out.coord[axis][1] = component(p, axis);
-    out.coord[axis][2] = origin + above * h;
-    out.term[axis][0] = (u - below) * (u - below), out.term[axis][1] = 0.0f;
-    out.term[axis][2] = (u - above) * (u - above);
-  }
-  return out;
-}
-
 // The cells around p's own: for each, the point of the cell nearest p and how far p is from it. The
 // SIMD kernels build the same points in lanes (neighbour_lanes.h).
 NeighbourPoints neighboursOf(const NeighbourAxes& axes, float h) {
@@ -251,11 +233,30 @@ bool twoBallsClear(const Sample& start, const Sample& end, float reach, float ma
 
 } // namespace
 
+// Per axis a neighbour's point is just past the wall between its cell and p's (below or above), or p's
+// own coordinate.
+NeighbourAxes neighbourAxes(const GridInfo& g, Vec3f p) {
+  const float h = g.voxel_size, inv_h = 1.0f / h;
+  constexpr float kInto = 1e-3f; // voxel units past a wall, so the sample lands in the other cell
+  NeighbourAxes out;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float origin = component(g.origin, axis);
+    const float u = (component(p, axis) - origin) * inv_h, cell = std::floor(u);
+    const float below = cell - kInto, above = cell + 1.0f + kInto;
+    out.coord[axis][0] = origin + below * h, out.coord[axis][1] = component(p, axis);
+    out.coord[axis][2] = origin + above * h;
+    out.term[axis][0] = (u - below) * (u - below), out.term[axis][1] = 0.0f;
+    out.term[axis][2] = (u - above) * (u - above);
+  }
+  return out;
+}
+
 bool walkProvesOutside(const View& field, Vec3f p) {
   return provable(field, field.guaranteedReach(), walkProofLevel(field), p, planeAt(field, p));
 }
 
-WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first, float margin, int max_samples) {
+WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first, float margin, int max_samples,
+                       const StartBound* start_bound) {
   const GridInfo& g = field.grid();
   const float len = length(d);
   // A far voxel's centre is beyond the band, so every point of its cell is at least this far.
@@ -326,9 +327,13 @@ WalkResult walkSegment(const View& field, Vec3f a, Vec3f d, const Sample* first,
       continue;
     }
     // This cell's plane cannot clear the way: ask the cells around the point.
-    NeighbourPoints around;
-    float terms[NeighbourPoints::kPadded];
-    const float bound = neighbourBound(field, reach, p, &around, terms);
+    // At the start, the caller's bound when it has one: the same numbers.
+    const bool given = n == 0 && t == 0.0f && start_bound != nullptr;
+    NeighbourPoints taken;
+    float taken_terms[NeighbourPoints::kPadded];
+    const float bound = given ? start_bound->bound : neighbourBound(field, reach, p, &taken, taken_terms);
+    const NeighbourPoints& around = given ? start_bound->points : taken;
+    const float* terms = given ? start_bound->terms : taken_terms;
     if (bound >= proof_level) proof = t;
     clear = bound - margin;
     if (clear > 0.0f) { // the bound's ball, or the sliding plane of the neighbour that gave it

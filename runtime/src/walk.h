@@ -82,6 +82,17 @@ constexpr NeighbourSides makeNeighbourSides() {
 }
 inline constexpr NeighbourSides kNeighbourSides = makeNeighbourSides();
 
+/// The neighbour points' parts for the local point `p` of a field with this grid.
+NeighbourAxes neighbourAxes(const GridInfo& g, Vec3f p);
+
+/// The neighbour bound at a walk's start, taken by its caller already (the SIMD kernels, asking whether
+/// the start is blocked): what walkSegment's own neighbourBound would answer there, bit for bit.
+struct StartBound {
+  float bound = 0.0f;
+  NeighbourPoints points;
+  alignas(64) float terms[NeighbourPoints::kPadded];
+};
+
 /// Whether a walk from the local point `p` can leave it: its own plane, its second bound or a
 /// neighbour's bound reads at least walkProofLevel there, or the point is beyond the field's band or
 /// grid. walkSegment blocks a start where this is false in every direction (but in far inside voxels).
@@ -92,7 +103,8 @@ bool walkProvesOutside(const View& field, Vec3f p);
 /// field's sample at `a` (the step already took it for the particle's response). A start point the
 /// field cannot prove outside, by its own plane or a neighbour's bound, is blocked in every direction
 /// (kReverse at t = 0), except from a far inside voxel, where there is nothing left to protect.
-/// At most `max_samples` samples.
-WalkResult walkSegment(const View& field, Vec3f a, Vec3f delta, const Sample* first, float margin, int max_samples);
+/// At most `max_samples` samples. `start_bound`, when not null, is the neighbour bound at `a`.
+WalkResult walkSegment(const View& field, Vec3f a, Vec3f delta, const Sample* first, float margin, int max_samples,
+                       const StartBound* start_bound = nullptr);
 
 } // namespace dng
