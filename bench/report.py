@@ -243,8 +243,9 @@ def table1_section(path, table_mesh="fandisk"):
           "over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and the scalar walks "
           "take up to about 40% of the time (dragon_res4: a third of their cycles on spawn points never proven "
           "outside, and the 26-sample neighbour bound about a fifth of the step; a swarm of nothing but blocked "
-          "points costs about 320 ns per particle-step there): that is why those meshes cost about twice "
-          "fandisk's, and why the sweep's column of spawns the field proves costs less. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
+          "points cost about 320 ns per particle-step there, and 190 since the lanes take the bound at a "
+          "walk's start and hand a blocked stop to the scalar code without its walk): that is why those "
+          "meshes cost more than fandisk, and why the sweep's column of spawns the field proves costs less. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
           "what the field pays is fixed per sample.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
