@@ -25,7 +25,8 @@ DNG_LANE_INLINE V3 neighbourPoints(const NeighbourAxes& axes, F h, int n, F* out
   F coord[3], term[3];
   for (int axis = 0; axis < 3; ++axis) {
     const F side = load(kNeighbourSides.side[axis] + n);
-    const M below = side<half, above = side> one_and_half;
+    const M below = side < half;
+    const M above = side > one_and_half;
     const float* c = axes.coord[axis];
     const float* t = axes.term[axis];
     coord[axis] = select(below, splat(c[0]), select(above, splat(c[2]), splat(c[1])));

@@ -279,12 +279,17 @@ struct ScalarStep {
   const BodyMotions* motions;
 };
 
+// A particle's step written: its state and touched body.
+void storeParticle(const ScalarStep& step, std::size_t n, const ParticleState& state, const Touch& touch) {
+  store(*step.particles, n, state);
+  writeTouch(*step.particles, n, touch.body);
+}
+
 // The end of a particle's step: its move after the responses, then its state and touched body written.
 void moveAndStore(const ScalarStep& step, std::size_t n, const KeptSamples& kept, ParticleState state, Touch touch,
                   HandedBound handed = {}) {
   move(step.bodies, *step.near, *step.motions, step.dt, kept, &state, &touch, handed);
-  store(*step.particles, n, state);
-  writeTouch(*step.particles, n, touch.body);
+  storeParticle(step, n, state, touch);
 }
 
 void stepOne(const void* context, std::size_t n) {
@@ -327,8 +332,7 @@ void blockOne(const void* context, std::size_t n, Vec3f velocity, std::int32_t t
   const WalkResult walk{WalkStop::kReverse, 0.0f, delta * (-1.0f / length(delta))};
   const Stop stop{std::int32_t(b), walk.t, walk, end_pose.toWorld(a + delta * walk.t)};
   settle(step.bodies, *step.near, *step.motions, start, end, stop, &state, &touch);
-  store(*step.particles, n, state);
-  writeTouch(*step.particles, n, touch.body);
+  storeParticle(step, n, state, touch);
 }
 
 // The batch kernels take up to kMaxBatchBodies bodies, or any number through an index, whose fields
