@@ -226,14 +226,20 @@ def table1_section(path, table_mesh="fandisk"):
           "this table's swarm). About 85% of the step's time is the lanes' own work: each particle's response sample "
           "(brick-top entry, then pool word and shading normal) and the sample at the end of its move that proves "
           "the move clear with two balls. The profiler puts most of its samples just after those gathers (an "
-          "AVX-512 gather takes about 9 ns from issue to result on this machine, and three of the four depend on "
+          "AVX-512 gather takes about 9 ns from issue to result on the AMD EPYC this was measured on, and three of "
+          "the four depend on "
           "another), yet plain loads in their place, or four registers per operation instead of two, measured "
           "no faster, nor did a smaller field or particles in spatial order, and prefetching the pool words and "
           "shading normals of the chunk one, two or four chunks ahead measured slower (18.0 ns per particle-step "
           "without, 19.5 to 19.9 with: the fastest timings of 3 runs of each, in turn): the evidence points to its "
           "instruction count (no hardware counters here to prove it), about 220 per particle-step with the AVX2 "
           "kernels (callgrind on bench/swarm_hash's Table 1-like load; valgrind cannot run AVX-512), spread over "
-          "many small parts, the largest the brick lookups at about a fifth. Of the particles, "
+          "many small parts, the largest the brick lookups at about a fifth. A later profile on an Intel Xeon "
+          "(perf with line information, the same swarm) puts about half of the step's time in the samples' "
+          "nearest-voxel lookups (brick-top entry, pool word, shading normal and the octahedral decodes), over a "
+          "quarter of that just after the pool-word gathers; taking each chunk's response samples one chunk ahead, "
+          "so that two chunks' gathers overlap, gained about 2% with the AVX-512 kernels and 7% with the AVX2 ones "
+          "(docs/RUNTIME.md, \"SIMD\"). Of the particles, "
           "about 6% need the walk to go cell by cell (they are set aside and walked a register at a time) and "
           "0.26% are handed to the scalar walk: about half of them stop at a plane during the move (a bounce and a "
           "slide), most of the rest are spawn points the planes cannot prove outside, which never move and are "
@@ -407,9 +413,11 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     nano = {k: m.get("BM_NanoVdb/%d" % k, (None,))[0] for k in (0, 1)}
     print("# Performance\n")
     print("Written by `bash setup.sh bench` (bench/run.sh); do not edit by hand. Medians of 5 repetitions, "
-          "measured on %s (%d CPUs, %s). Absolute times on shared machines drift by tens of percent between "
-          "runs; the ratios to baselines measured in the same run are the figures to compare.\n"
-          % (context.get("host_name", "?"), context.get("num_cpus", 0), context.get("date", "?")))
+          "measured on %s (%s, %d CPUs, %s). Absolute times on shared machines drift by tens of percent between "
+          "runs; the ratios to baselines measured in the same run are the figures to compare, on the same CPU "
+          "model: between CPU makers they differ too.\n"
+          % (context.get("host_name", "?"), context.get("cpu_model", "CPU model not recorded"),
+             context.get("num_cpus", 0), context.get("date", "?")))
     print("## Field queries (bench/field_query_bench.cpp)\n")
     print("A 128^3 sphere field (radius 48 voxels, band 3 voxels); the same ~116k points within 2 voxels of the "
           "surface, in scan order (coherent) and shuffled (random), sampled with `View::sampleBatch`.\n")

@@ -7,13 +7,17 @@ set -euo pipefail
 build="${1:?usage: bench/run.sh BUILD_DIR}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
 export DNG_BENCH_MESH="${DNG_BENCH_MESH:-$root/data/data/meshes/bunny00.off}"
+# The CPU's model goes into every report's context (ratios between methods differ between CPU makers:
+# gathers, divides and the BVH traversal do not scale alike). The flag takes comma-separated pairs.
+cpu_model="$(grep -m1 '^model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | tr -d ',' | sed 's/^ *//')"
+context="--benchmark_context=cpu_model=${cpu_model:-unknown}"
 for program in field_query_bench particle_step_bench many_bodies_bench threads_bench bake_bench; do
   echo "bench/run.sh: running $program" >&2
   # The many-bodies and threads figures are ratios of rows: interleave the rows' repetitions so that
   # other work on the machine weighs on baseline and candidate alike.
   interleave=false
   case "$program" in many_bodies_bench | threads_bench) interleave=true ;; esac
-  "$build/bench/$program" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
+  "$build/bench/$program" "$context" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
     --benchmark_enable_random_interleaving=$interleave \
     --benchmark_report_aggregates_only=true --benchmark_format=json >"$build/$program.json"
 done
@@ -23,7 +27,7 @@ done
 echo "bench/run.sh: running table1_bench" >&2
 bash "$root/bench/fetch_table1_meshes.sh"
 meshes="$(dirname "$DNG_BENCH_MESH")" extra="$root/data/table1"
-"$build/bench/table1_bench" --table="$meshes/fandisk.off" --particles=100000,1000000 \
+"$build/bench/table1_bench" "$context" --table="$meshes/fandisk.off" --particles=100000,1000000 \
   --sweep="$extra/cow.off,$extra/dragon_res4.off,$meshes/bunny00.off,$extra/dragon_res2.off,$extra/dragon.off" \
   --sweep_particles=100000 --benchmark_min_time=0.2 --benchmark_repetitions=5 \
   --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true \

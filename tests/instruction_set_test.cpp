@@ -455,6 +455,20 @@ TEST(InstructionSet, StepGivesTheScalarResultsWhenMostWalksGoCellByCell) {
   expectSameSteps({makeBody(field.view, everyRule())}, skimmingSwarm(box, 2001, 21));
 }
 
+// Without an index the kernels take each chunk's response samples one chunk ahead (span_lanes.h
+// stepEveryBody): spans of every length from one particle to a few chunks of the widest set, so that
+// the first, the last and the lone chunk, and the tails after them, all meet the surface.
+TEST(InstructionSet, StepGivesTheScalarResultsForEverySpanLength) {
+  const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
+  Field field(box, false, Extras::kShading);
+  const Swarm skimming = skimmingSwarm(box, 100, 23);
+  for (std::size_t count : {1, 3, 4, 5, 15, 16, 17, 31, 32, 33, 47, 63, 64, 65, 96, 97, 100}) {
+    Swarm first = skimming;
+    first.particles.resize(count), first.contact.resize(count), first.body.resize(count);
+    expectSameSteps({makeBody(field.view, everyRule())}, first);
+  }
+}
+
 // `count` particles within 0.3 voxel of the surface of `shape`, `body`'s field, that the body cannot prove
 // outside (Body::provesOutside), moving at up to one voxel per step in random directions: the walk
 // blocks each where it stands, and the kernels settle that stop without handing the walk over.

@@ -94,22 +94,29 @@ struct TouchLanes {
   I body;
 };
 
-// step.cpp respondToBody for the lanes `live` (`listed`: the body's index when `b` is a StepBody).
-// Updates the velocities and the touch, and keeps the sample.
+// The sample a body's response reads, for the lanes `live` its box holds: it depends on the positions
+// alone, so a chunk's samples can be taken before the rules of an earlier chunk or body act. The
+// shading normal goes to *out_shading.
 template <class Body>
-DNG_LANE_INLINE void respondToBody(const Body& b, const Material& material, std::int32_t listed, float dt, M live,
-                                   LaneParticles* io, TouchLanes* io_touch, KeptSample* kept) {
+DNG_LANE_INLINE void sampleForResponse(const Body& b, M live, V3 p, KeptSample* kept, V3* out_shading) {
   const V3 lo = perLane(b.lo), hi = perLane(b.hi);
-  const V3 p = io->position;
   const M in = live & (p.x >= lo.x) & (p.y >= lo.y) & (p.z >= lo.z) & (p.x <= hi.x) & (p.y <= hi.y) & (p.z <= hi.z);
   kept->valid = in;
   if (!any(in)) return;
   kept->local = toLocal(b.start, p);
-  V3 shading;
-  const LaneSample s = sampleBody(b, kept->local, in, &shading);
-  kept->sample = s;
-  const M contact = in & s.in_band;
+  kept->sample = sampleBody(b, kept->local, in, out_shading);
+}
+
+// step.cpp respondToBody's rules, on the sample `kept` (sampleForResponse) with its shading normal:
+// updates the velocities and the touch (`listed`: the body's index when `b` is a StepBody).
+template <class Body>
+DNG_LANE_INLINE void applyResponse(const Body& b, const Material& material, std::int32_t listed, float dt,
+                                   const KeptSample& kept, V3 shading, LaneParticles* io, TouchLanes* io_touch) {
+  if (!any(kept.valid)) return;
+  const LaneSample& s = kept.sample;
+  const M contact = kept.valid & s.in_band;
   if (!any(contact)) return;
+  const V3 p = io->position;
   const F d = s.distance * perLane(b.start.scale);
   const V3 n = rotateToWorld(b.start, shading);
   const V3 surface = perLane(b.linear) + cross(perLane(b.angular), p - perLane(b.start.t));
@@ -121,15 +128,38 @@ DNG_LANE_INLINE void respondToBody(const Body& b, const Material& material, std:
   io_touch->body = select(nearer, bodyIndex(b, listed), io_touch->body);
 }
 
+// step.cpp respondToBody for the lanes `live`: sample, then the rules. Updates the velocities and the
+// touch, and keeps the sample.
+template <class Body>
+DNG_LANE_INLINE void respondToBody(const Body& b, const Material& material, std::int32_t listed, float dt, M live,
+                                   LaneParticles* io, TouchLanes* io_touch, KeptSample* kept) {
+  V3 shading;
+  sampleForResponse(b, live, io->position, kept, &shading);
+  applyResponse(b, material, listed, dt, *kept, shading, io, io_touch);
+}
+
 DNG_LANE_INLINE TouchLanes noTouch() { return {splat(std::numeric_limits<float>::infinity()), splatI(-1)}; }
 
-// The responses of the listed bodies, in body order, for the lanes `live`. Fills the touched body and
-// keeps each body's sample.
-DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, M live, LaneParticles* io,
-                                  TouchLanes* out_touch, KeptLanes* kept) {
+/// The responses' samples of every listed body (sampleResponses), and their shading normals.
+struct ResponseSamples {
+  KeptLanes kept;
+  V3 shading[NearList::kCapacity];
+};
+
+// The samples every listed body's response reads, for the lanes `live` at `p`.
+DNG_LANE_INLINE void sampleResponses(const NearList& list, M live, V3 p, ResponseSamples* out) {
+  for (std::size_t k = 0; k < list.count; ++k)
+    sampleForResponse(*list.body[k], live, p, &out->kept.body[k], &out->shading[k]);
+}
+
+// The responses of the listed bodies, in body order, on their samples (sampleResponses). Fills the
+// touched body.
+DNG_LANE_INLINE void applyResponses(const StepBatch& batch, const NearList& list, const ResponseSamples& samples,
+                                    LaneParticles* io, TouchLanes* out_touch) {
   *out_touch = noTouch();
   for (std::size_t k = 0; k < list.count; ++k)
-    respondToBody(*list.body[k], *list.material[k], list.index[k], batch.dt, live, io, out_touch, &kept->body[k]);
+    applyResponse(*list.body[k], *list.material[k], list.index[k], batch.dt, samples.kept.body[k], samples.shading[k],
+                  io, out_touch);
 }
 
 // step.cpp segmentNearBounds.
