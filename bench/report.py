@@ -230,7 +230,7 @@ def table1_section(path, table_mesh="fandisk"):
           "the four depend on "
           "another), yet plain loads in their place, or four registers per operation instead of two, measured "
           "no faster, nor did a smaller field or particles in spatial order, and prefetching the pool words and "
-          "shading normals of the chunk one, two or four chunks ahead measured slower (18.0 ns per particle-step "
+          "shading normals of the chunk one, two or four chunks ahead measured slower there (18.0 ns per particle-step "
           "without, 19.5 to 19.9 with: the fastest timings of 3 runs of each, in turn): the evidence points to its "
           "instruction count (no hardware counters here to prove it), about 220 per particle-step with the AVX2 "
           "kernels (callgrind on bench/swarm_hash's Table 1-like load; valgrind cannot run AVX-512), spread over "
