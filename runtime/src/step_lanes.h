@@ -111,7 +111,7 @@ DNG_LANE_INLINE void sampleForResponse(const Body& b, M live, V3 p, KeptSample* 
 // updates the velocities and the touch (`listed`: the body's index when `b` is a StepBody).
 template <class Body>
 DNG_LANE_INLINE void applyResponse(const Body& b, const Material& material, std::int32_t listed, float dt,
-                                   const KeptSample& kept, V3 shading, LaneParticles* io, TouchLanes* io_touch) {
+                                   const KeptSample& kept, const V3& shading, LaneParticles* io, TouchLanes* io_touch) {
   if (!any(kept.valid)) return;
   const LaneSample& s = kept.sample;
   const M contact = kept.valid & s.in_band;
@@ -133,7 +133,7 @@ DNG_LANE_INLINE void applyResponse(const Body& b, const Material& material, std:
 template <class Body>
 DNG_LANE_INLINE void respondToBody(const Body& b, const Material& material, std::int32_t listed, float dt, M live,
                                    LaneParticles* io, TouchLanes* io_touch, KeptSample* kept) {
-  V3 shading;
+  V3 shading = splat(0.0f, 0.0f, 0.0f); // written only where the body's box holds a lane
   sampleForResponse(b, live, io->position, kept, &shading);
   applyResponse(b, material, listed, dt, *kept, shading, io, io_touch);
 }
