@@ -4,9 +4,10 @@
 // Mask registers make the step's many selects and mask operations one instruction each. Two registers
 // per operation: a chunk's step is one long chain of dependent work (the response's gathers, its
 // rules, the end of the move, the walk's gathers), and an AVX-512 gather takes about 9 ns from issue
-// to result on the AMD EPYC we measure on (6 ns apart when independent), so each operation issues the
-// same instruction on two independent registers and one register's chain runs while the other's
-// waits (bench/swarm_hash on a Table 1 load: 29.5 -> 23.7 ns per particle-step against one register).
+// to result on an AMD EPYC (6 ns apart when independent; on an Intel Xeon, from the first-level
+// cache, 7.8 ns and 1.7 ns), so each operation issues the same instruction on two independent
+// registers and one register's chain runs while the other's waits (bench/swarm_hash on a Table 1
+// load, on the EPYC: 29.5 -> 23.7 ns per particle-step against one register).
 // Every operation is the IEEE operation the scalar code uses (floor by rounding towards minus infinity,
 // no fused multiply-adds; vminps and vmaxps return their second operand when either is NaN, as
 // dng::minOf does), so the lanes stay bit for bit the scalar results.
