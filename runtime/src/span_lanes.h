@@ -251,12 +251,11 @@ DNG_LANE_INLINE ChunkStep stepUnion(const StepBatch& batch, const LaneLists* lis
   ChunkStep out;
   out.live = live;
   const NearList& respond = chunkResponses(batch, lists, near, &out.live);
-  ResponseSamples samples;
-  sampleResponses(respond, out.live, io->position, &samples);
-  applyResponses(batch, respond, samples, io, &out.touch);
+  KeptSample kept[NearList::kCapacity];
+  respondLanes(batch, respond, out.live, io, &out.touch, kept);
   out.end = io->position + io->velocity * splat(batch.dt);
   const NearList& walk = chunkMoves(batch, io->position, out.end, near, &out.live);
-  out.done = bits(moveLanes(walk, out.live, *io, out.end, &samples.kept, WalkPart::kBalls));
+  out.done = bits(moveLanes(walk, out.live, *io, out.end, kept, WalkPart::kBalls));
   return out;
 }
 
@@ -444,7 +443,7 @@ __attribute__((noinline)) inline std::size_t stepEveryBody(const StepBatch& batc
     c.live = allTrue();
     applyResponses(batch, all, samples[now], &p[now], &c.touch);
     c.end = p[now].position + p[now].velocity * splat(batch.dt);
-    c.done = bits(moveLanes(all, c.live, p[now], c.end, &samples[now].kept, WalkPart::kBalls));
+    c.done = bits(moveLanes(all, c.live, p[now], c.end, samples[now].kept, WalkPart::kBalls));
     finishChunk(batch, {n}, p[now], c, deferred);
   }
   return n;

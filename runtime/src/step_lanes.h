@@ -83,10 +83,6 @@ struct KeptSample {
   V3 local;
   M valid;
 };
-/// The responses' samples, per body of the chunk's response list.
-struct KeptLanes {
-  KeptSample body[NearList::kCapacity];
-};
 
 /// The body a particle's responses touched, and its distance: the nearest body that acted.
 struct TouchLanes {
@@ -140,16 +136,18 @@ DNG_LANE_INLINE void respondToBody(const Body& b, const Material& material, std:
 
 DNG_LANE_INLINE TouchLanes noTouch() { return {splat(std::numeric_limits<float>::infinity()), splatI(-1)}; }
 
-/// The responses' samples of every listed body (sampleResponses), and their shading normals.
+/// The responses' samples of every body of a call without an index (sampleResponses; at most
+/// kMaxBatchBodies), per body, and their shading normals: span_lanes.h stepEveryBody keeps two.
 struct ResponseSamples {
-  KeptLanes kept;
-  V3 shading[NearList::kCapacity];
+  KeptSample kept[kMaxBatchBodies];
+  V3 shading[kMaxBatchBodies];
 };
 
-// The samples every listed body's response reads, for the lanes `live` at `p`.
+// The samples every listed body's response reads, for the lanes `live` at `p`. `list` holds at most
+// kMaxBatchBodies bodies.
 DNG_LANE_INLINE void sampleResponses(const NearList& list, M live, V3 p, ResponseSamples* out) {
   for (std::size_t k = 0; k < list.count; ++k)
-    sampleForResponse(*list.body[k], live, p, &out->kept.body[k], &out->shading[k]);
+    sampleForResponse(*list.body[k], live, p, &out->kept[k], &out->shading[k]);
 }
 
 // The responses of the listed bodies, in body order, on their samples (sampleResponses). Fills the
@@ -158,8 +156,17 @@ DNG_LANE_INLINE void applyResponses(const StepBatch& batch, const NearList& list
                                     LaneParticles* io, TouchLanes* out_touch) {
   *out_touch = noTouch();
   for (std::size_t k = 0; k < list.count; ++k)
-    applyResponse(*list.body[k], *list.material[k], list.index[k], batch.dt, samples.kept.body[k], samples.shading[k],
-                  io, out_touch);
+    applyResponse(*list.body[k], *list.material[k], list.index[k], batch.dt, samples.kept[k], samples.shading[k], io,
+                  out_touch);
+}
+
+// The responses of the listed bodies, in body order, for the lanes `live`, each body sampled just
+// before its rules act. Fills the touched body and keeps each body's sample in kept[k].
+DNG_LANE_INLINE void respondLanes(const StepBatch& batch, const NearList& list, M live, LaneParticles* io,
+                                  TouchLanes* out_touch, KeptSample* kept) {
+  *out_touch = noTouch();
+  for (std::size_t k = 0; k < list.count; ++k)
+    respondToBody(*list.body[k], *list.material[k], list.index[k], batch.dt, live, io, out_touch, &kept[k]);
 }
 
 // step.cpp segmentNearBounds.
@@ -473,15 +480,16 @@ DNG_LANE_INLINE M walkThroughBody(const Body& b, const Material& material, M don
 }
 
 // The move's walks through the listed bodies, for the lanes `live`: the lanes every one proves clear
-// by the walk's `part`. `kept`: the responses' samples, or null (the walks sample their starts). With
+// by the walk's `part`. `kept`: the responses' samples, per body of the response list (list.kept
+// indexes it), or null (the walks sample their starts). With
 // `out_start` (kCells, a list of one body), also the lanes that ask the neighbours at their start.
-DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p, V3 end, const KeptLanes* kept,
+DNG_LANE_INLINE M moveLanes(const NearList& list, M live, const LaneParticles& p, V3 end, const KeptSample* kept,
                             WalkPart part, StartLanes* out_start = nullptr) {
   M done = live;
   for (std::size_t k = 0; k < list.count && any(done); ++k) {
     const std::int32_t r = list.kept[k];
     done = walkThroughBody(*list.body[k], *list.material[k], done, p, end,
-                           kept != nullptr && r >= 0 ? &kept->body[r] : nullptr, part, out_start);
+                           kept != nullptr && r >= 0 ? &kept[r] : nullptr, part, out_start);
   }
   return done;
 }
