@@ -456,9 +456,10 @@ TEST(InstructionSet, StepGivesTheScalarResultsWhenMostWalksGoCellByCell) {
 }
 
 // Without an index the kernels take each chunk's response samples one chunk ahead (span_lanes.h
-// stepEveryBody): spans of every length from one particle to a few chunks of the widest set, so that
-// the first, the last and the lone chunk, and the tails after them, all meet the surface.
-TEST(InstructionSet, StepGivesTheScalarResultsForEverySpanLength) {
+// stepEveryBody): spans from one particle to a few chunks of the widest set, at and beside each set's
+// chunk size (4, 16, 32) and its multiples, so that the first, the last and the lone chunk, and the
+// tails after them, all meet the surface.
+TEST(InstructionSet, StepGivesTheScalarResultsForSpansAroundEachChunkSize) {
   const AnalyticField box = analytic::boxField({0.3f, 0.2f, -0.1f}, {9.0f, 7.0f, 11.0f});
   Field field(box, false, Extras::kShading);
   const Swarm skimming = skimmingSwarm(box, 100, 23);
