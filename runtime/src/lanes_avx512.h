@@ -7,7 +7,8 @@
 // to result on an AMD EPYC (6 ns apart when independent; on an Intel Xeon, from the first-level
 // cache, 7.8 ns and 1.7 ns), so each operation issues the same instruction on two independent
 // registers and one register's chain runs while the other's waits (bench/swarm_hash on a Table 1
-// load, on the EPYC: 29.5 -> 23.7 ns per particle-step against one register).
+// load, on the EPYC: 29.5 -> 23.7 ns per particle-step against one register; on the Xeon 23.5 -> 19.3).
+// Four registers per operation measured no faster on either (Xeon: 19.9 against 19.4).
 // Every operation is the IEEE operation the scalar code uses (floor by rounding towards minus infinity,
 // no fused multiply-adds; vminps and vmaxps return their second operand when either is NaN, as
 // dng::minOf does), so the lanes stay bit for bit the scalar results.
