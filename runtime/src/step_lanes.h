@@ -416,6 +416,11 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
   const F nudge = splat(2e-3f * g.voxel_size) / len;
   const float inv_h = ViewInternals::invVoxelSize(field);
   const bool second_planes = ViewInternals::hasSecondPlanesFast(field);
+  // Each lane's end (a + delta t_end) stays where it is while the lanes step from cell to cell, so its
+  // sample is taken once, for every lane still walking, the first time a lane needs it: a register's
+  // lanes need it in different cells, and each cell's sample took a register's gathers and decodes.
+  LaneSample end_sample{};
+  M end_taken = andNot(active, active);
   for (int n = 0; n < max_samples && any(active); ++n) {
     const M arrived = active & (t >= t_end);
     clear = clear | arrived;
@@ -451,7 +456,11 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
     clear = clear | c.roomy_end;
     if (any(c.need_end)) {
       const V3 last = a + delta * t_end;
-      clear = clear | endProven(field, last, sampleBody(sb, last, c.need_end), c.need_end, proof);
+      if (any(andNot(c.need_end, end_taken))) {
+        end_sample = sampleBody(sb, last, active);
+        end_taken = active;
+      }
+      clear = clear | endProven(field, last, end_sample, c.need_end, proof);
     }
     active = andNot(active, c.covers);
     t = select(c.far, t + c.gap / len, t);
