@@ -419,8 +419,9 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
   // Each lane's end (a + delta t_end) stays where it is while the lanes step from cell to cell, so its
   // sample is taken once, for every lane still walking, the first time a lane needs it: a register's
   // lanes need it in different cells, and each cell's sample took a register's gathers and decodes.
+  // Lanes only ever leave `active`, so every lane that needs the end later was sampled then.
   LaneSample end_sample{};
-  M end_taken = andNot(active, active);
+  bool end_taken = false;
   for (int n = 0; n < max_samples && any(active); ++n) {
     const M arrived = active & (t >= t_end);
     clear = clear | arrived;
@@ -456,9 +457,9 @@ DNG_LANE_INLINE M walkLanes(const Body& sb, int max_samples, V3 a, V3 end, const
     clear = clear | c.roomy_end;
     if (any(c.need_end)) {
       const V3 last = a + delta * t_end;
-      if (any(andNot(c.need_end, end_taken))) {
+      if (!end_taken) {
         end_sample = sampleBody(sb, last, active);
-        end_taken = active;
+        end_taken = true;
       }
       clear = clear | endProven(field, last, end_sample, c.need_end, proof);
     }
