@@ -20,6 +20,10 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/format/include/ ${PROJECT_SOURCE_DIR}/ru
         ${PROJECT_BINARY_DIR}/runtime/generated/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 install(EXPORT dngridTargets NAMESPACE dng:: DESTINATION ${DNG_CMAKE_DIR})
 
+# dngdump reads files through the runtime alone: installed whenever it was built, baker or not.
+if(TARGET dngdump)
+  install(TARGETS dngdump RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
 if(DNG_BUILD_BAKER)
   include(DngInstallBaker)
 endif()

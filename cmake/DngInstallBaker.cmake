@@ -1,7 +1,7 @@
-# The baker's part of the install (DNG_BUILD_BAKER): the tools, and dng::baker as its own export set
+# The baker's part of the install (DNG_BUILD_BAKER): dngbake, and dng::baker as its own export set
 # with the headers its declarations need. Kept apart from dngridTargets so that find_package(dngrid)
 # on a machine without the baker's libraries still gives the runtime.
-install(TARGETS dngbake dngdump RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS dngbake RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 set_target_properties(dng_baker PROPERTIES EXPORT_NAME baker)
 install(TARGETS dng_baker EXPORT dngridBakerTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 target_include_directories(dng_baker INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)

@@ -131,7 +131,7 @@ these cases runs in the test suite as `leak_test`.
 ## Method
 
 Each mesh is baked at resolution 64 with the band `dngbake --max-speed --dt 0.016` gives for 3 voxels per
-step, so the design speed is `View::guaranteedReach()` x body scale / dt (about 3.4 voxels per step).
+step, so the design speed is `View::guaranteedReach()` x body scale / dt (3.5 voxels per step).
 Real meshes are moved so that their bounding-box centre is the origin; the code-made ones are built in
 voxels (the plate is 0.5 voxel thick, the rods 0.6, the fins 0.4, the hollow box's walls 1, the close
 fins 1.5 thick with 2-voxel gaps, the notch is a 90-degree concave edge).
