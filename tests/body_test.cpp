@@ -1,6 +1,7 @@
 // Bodies: placing fields with rigid transforms and uniform scale, refusing what breaks normals.
 #include "analytic_fields.h"
 #include "dng/body.h"
+#include "dng/format/writer.h"
 #include "sample_files.h"
 
 #include <gtest/gtest.h>
@@ -74,6 +75,64 @@ TEST_F(BodyTest, RejectsWhatBreaksNormalsAndKeepsThePreviousTransform) {
   EXPECT_NE(std::string(diag.message).find("non-uniform"), std::string::npos);
   EXPECT_FLOAT_EQ(body_.scale(), 2.0f);
   EXPECT_FLOAT_EQ(body_.translation().x, 5.0f);
+}
+
+// Scales far from 1 either way: the checks run in double, so a float column's squared length, which
+// overflows above about 1.8e19 and turns subnormal below about 1e-19, neither passes a scale of
+// infinity nor a rotation that is not orthonormal; a scale whose inverse is not a normal float, or
+// whose placed box overflows, is refused.
+TEST_F(BodyTest, ScalesFarFromOneKeepAnOrthonormalRotationOrAreRefused) {
+  for (const float k : {1e20f, 3e-23f, 1e-30f}) {
+    const float m[12] = {k, 0, 0, 1, 0, k, 0, 2, 0, 0, k, 3};
+    ASSERT_EQ(body_.setTransform(m), Status::kOk) << k;
+    EXPECT_EQ(body_.scale(), k);
+    const float* r = body_.rotation();
+    for (int n = 0; n < 9; ++n)
+      EXPECT_NEAR(r[n], n % 4 == 0 ? 1.0f : 0.0f, 1e-6f) << k << " entry " << n;
+    EXPECT_TRUE(std::isfinite(body_.boundsMin().x) && std::isfinite(body_.boundsMax().z)) << k;
+  }
+  const float q[4] = {1, 0, 0, 0};
+  ASSERT_EQ(body_.setTransform({0, 0, 0}, q, 3e19f), Status::kOk);
+  EXPECT_EQ(body_.scale(), 3e19f);
+  EXPECT_NEAR(body_.rotation()[0], 1.0f, 1e-6f);
+  const float good[12] = {2, 0, 0, 5, 0, 2, 0, 0, 0, 0, 2, 0};
+  ASSERT_EQ(body_.setTransform(good), Status::kOk);
+  for (const float k : {1e38f, 1e-39f, 3e37f}) { // inverse subnormal; scale subnormal; box overflows
+    const float m[12] = {k, 0, 0, 0, 0, k, 0, 0, 0, 0, k, 0};
+    Diagnostic diag;
+    EXPECT_EQ(body_.setTransform(m, &diag), Status::kInvalidArgument) << k;
+    EXPECT_NE(diag.message[0], '\0');
+  }
+  const float huge_q[4] = {1e30f, 0, 0, 0}, tiny_q[4] = {1e-30f, 0, 0, 0};
+  ASSERT_EQ(body_.setTransform({0, 0, 0}, huge_q, 1.0f), Status::kOk);
+  EXPECT_EQ(body_.rotation()[0], 1.0f);
+  ASSERT_EQ(body_.setTransform({0, 0, 0}, tiny_q, 1.0f), Status::kOk);
+  EXPECT_EQ(body_.rotation()[0], 1.0f);
+  ASSERT_EQ(body_.setTransform(good), Status::kOk);
+  EXPECT_EQ(body_.setTransform({0, 0, 0}, q, 1e38f), Status::kInvalidArgument);
+  EXPECT_EQ(body_.scale(), 2.0f); // unchanged
+}
+
+// A band too thin for the walk's balls (its guaranteed reach under the margin) cannot carry a body:
+// every walk's ball would have a negative radius, and particles froze in the field's box.
+TEST_F(BodyTest, AFieldWhoseBandIsTooThinIsRefused) {
+  for (const float band : {0.5f, 0.9f, 1.0f}) {
+    const format::EncodeResult file = format::encodeDense(
+        analytic::sampleField(analytic::cubeGrid({-4, -4, -4}, 0.25f, 32, band), analytic::sphereField({}, 2.0f)), "");
+    ASSERT_TRUE(file.ok()) << file.error;
+    View view;
+    ASSERT_EQ(View::open(file.bytes.data(), file.bytes.size(), &view), Status::kOk);
+    Body body;
+    Diagnostic diag;
+    const Status status = Body::create(&view, Material(), &body, &diag);
+    if (band < 0.93f) {
+      EXPECT_EQ(status, Status::kInvalidArgument) << band;
+      EXPECT_NE(std::string(diag.message).find("too thin"), std::string::npos) << diag.message;
+      EXPECT_FALSE(body.valid());
+    } else {
+      EXPECT_EQ(status, Status::kOk) << band << ": " << diag.message; // dngbake's thinnest band
+    }
+  }
 }
 
 TEST_F(BodyTest, RejectsInvalidFieldsAndMaterials) {

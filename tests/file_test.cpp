@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -76,6 +79,16 @@ TEST_F(FileTest, MissingEmptyDirectoryAndDamagedFiles) {
   EXPECT_EQ(File::open(path("absent.dng").c_str(), &file, &diag), Status::kIoError);
   EXPECT_STREQ(diag.rule, "") << "I/O failures break no file rule";
   EXPECT_EQ(File::open(nullptr, &file), Status::kInvalidArgument);
+}
+
+// A FIFO has no writer here: opening it must not wait for one (it had hung until killed).
+TEST_F(FileTest, AFifoIsRefusedAtOnce) {
+  ASSERT_EQ(::mkfifo(path("pipe.dng").c_str(), 0600), 0) << std::strerror(errno);
+  File file;
+  Diagnostic diag;
+  EXPECT_EQ(File::open(path("pipe.dng").c_str(), &file, &diag), Status::kIoError);
+  EXPECT_NE(std::string(diag.message).find("not a regular file"), std::string::npos) << diag.message;
+  EXPECT_FALSE(file.valid());
 }
 
 // Bodies point at a File's View: growing a std::vector<File> moves every File, and the bodies made

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <thread>
 #include <vector>
@@ -386,6 +387,28 @@ TEST(Step, BadCallsTouchNoParticle) {
   EXPECT_EQ(stepParticles(no_velocity, kDt, &body, 1), Status::kInvalidArgument);
   EXPECT_FLOAT_EQ(p.px[0], 7.0f);
   EXPECT_FLOAT_EQ(p.vx[0], -1.0f);
+  ParticleSpan odd_stride = p.span();
+  odd_stride.position_stride = 6; // not a whole float: reads would be misaligned
+  EXPECT_EQ(stepParticles(odd_stride, kDt, &body, 1, &diag), Status::kInvalidArgument);
+  EXPECT_NE(std::string(diag.message).find("stride"), std::string::npos) << diag.message;
+  // A body whose velocities give no finite motion: the walk could not judge a move against it (a NaN
+  // velocity had turned particles' velocities NaN, a huge spin let them through), so no particle moves.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const Vec3f angular : {Vec3f{nan, 0.0f, 0.0f}, Vec3f{3e38f, 3e38f, 0.0f}}) {
+    Body spinning = body;
+    spinning.setVelocity({0.0f, 0.0f, 0.0f}, angular);
+    const Body pair[2] = {body, spinning};
+    EXPECT_EQ(stepParticles(p.span(), kDt, pair, 2, &diag), Status::kInvalidArgument);
+    EXPECT_NE(std::string(diag.message).find("body 1"), std::string::npos) << diag.message;
+    BodyIndex index;
+    EXPECT_EQ(index.rebuild(pair, 2, kDt, &diag), Status::kInvalidArgument);
+    EXPECT_FALSE(index.built());
+  }
+  Body drifting = body;
+  drifting.setVelocity({nan, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f});
+  EXPECT_EQ(stepParticles(p.span(), kDt, &drifting, 1), Status::kInvalidArgument);
+  EXPECT_FLOAT_EQ(p.px[0], 7.0f);
+  EXPECT_FLOAT_EQ(p.vx[0], -1.0f);
   ParticleSpan empty;
   EXPECT_EQ(stepParticles(empty, kDt, &body, 1), Status::kOk);
 }
@@ -514,9 +537,18 @@ TEST(Forces, BadArgumentsTouchNoParticle) {
   ParticleSpan no_velocity = p.span();
   no_velocity.velocity_z = nullptr;
   EXPECT_EQ(applyGravity(no_velocity, {0, 0, -10.0f}, 0.1f), Status::kInvalidArgument);
+  ParticleSpan aliased = p.span();
+  aliased.velocity_stride = 0; // every particle would be particle 0
+  EXPECT_EQ(applyGravity(aliased, {0, 0, -10.0f}, 0.1f, &diag), Status::kInvalidArgument);
+  EXPECT_NE(std::string(diag.message).find("stride"), std::string::npos) << diag.message;
+  ParticleSpan odd = p.span();
+  odd.position_stride = 2;
+  EXPECT_EQ(applyExplosion(odd, {0, 0, 0}, 1.0f, 1.0f, 0.1f), Status::kInvalidArgument);
   EXPECT_FLOAT_EQ(p.vx[0], 3.0f);
   EXPECT_FLOAT_EQ(p.vz[0], 0.0f);
   EXPECT_EQ(applyGravity(ParticleSpan(), {0, 0, -10.0f}, 0.1f), Status::kOk); // nothing to do
+  EXPECT_EQ(applyGravity(odd, {0, 0, -10.0f}, 0.1f), Status::kOk);            // gravity reads no positions
+  EXPECT_FLOAT_EQ(p.vz[0], -1.0f);
 }
 
 } // namespace

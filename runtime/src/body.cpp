@@ -21,6 +21,20 @@ bool allFinite(const float* values, int count) {
 
 bool nonNegativeFinite(float x) { return x >= 0.0f && std::isfinite(x); }
 
+// The transform's checks in double: a float column's squared length overflows above a scale of about
+// 1.8e19 and loses its precision to subnormals below about 1e-19, where the checks would pass a scale
+// of infinity or a rotation that is not orthonormal.
+struct Column {
+  double x, y, z;
+};
+double dot(const Column& a, const Column& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+double length(const Column& c) { return std::sqrt(dot(c, c)); }
+
+// A scale the body's frames can use: it and its inverse are normal floats.
+bool usableScale(double scale) {
+  return std::isnormal(float(scale)) && std::isnormal(1.0f / float(scale)) && float(scale) > 0.0f;
+}
+
 } // namespace
 
 Status Body::create(const View* field, const Material& material, Body* out_body, Diagnostic* out_diag) {
@@ -28,6 +42,11 @@ Status Body::create(const View* field, const Material& material, Body* out_body,
   *out_body = Body();
   if (field == nullptr || !field->valid())
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "a body needs a valid, opened field");
+  if (!walkable(*field))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument,
+                           "the field's band (%g voxels) is too thin to step particles through: it needs more than %g",
+                           double(field->grid().band / field->grid().voxel_size),
+                           double(format::kHalfCubeDiagonal + kMarginVoxels));
   Body body;
   body.field_ = field;
   const Status status = body.setMaterial(material, out_diag);
@@ -57,12 +76,13 @@ Status Body::setMaterial(const Material& m, Diagnostic* out_diag) {
 Status Body::setTransform(const float m[12], Diagnostic* out_diag) {
   if (m == nullptr) return writeDiagnostic(out_diag, Status::kInvalidArgument, "transform is null");
   if (!allFinite(m, 12)) return writeDiagnostic(out_diag, Status::kInvalidArgument, "transform has non-finite entries");
-  const Vec3f col[3] = {{m[0], m[4], m[8]}, {m[1], m[5], m[9]}, {m[2], m[6], m[10]}};
-  const float scale = length(col[0]);
-  if (!(scale > 0.0f) || !std::isfinite(1.0f / scale))
-    return writeDiagnostic(out_diag, Status::kInvalidArgument, "transform has zero scale");
+  const Column col[3] = {{m[0], m[4], m[8]}, {m[1], m[5], m[9]}, {m[2], m[6], m[10]}};
+  const double scale = length(col[0]);
+  if (!usableScale(scale))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "transform scale %g is zero or out of float's range",
+                           scale);
   // Shear first: it changes axis lengths too, and the message should name the real cause.
-  const float lengths[3] = {scale, length(col[1]), length(col[2])};
+  const double lengths[3] = {scale, length(col[1]), length(col[2])};
   for (int a = 0; a < 3; ++a) {
     const int b = (a + 1) % 3;
     if (std::fabs(dot(col[a], col[b])) > kTolerance * lengths[a] * lengths[b])
@@ -71,28 +91,34 @@ Status Body::setTransform(const float m[12], Diagnostic* out_diag) {
   for (int a = 1; a < 3; ++a) {
     if (std::fabs(lengths[a] - scale) > kTolerance * scale)
       return writeDiagnostic(out_diag, Status::kInvalidArgument,
-                             "non-uniform scale (axis lengths %g, %g, %g) would break the normals", double(lengths[0]),
-                             double(lengths[1]), double(lengths[2]));
+                             "non-uniform scale (axis lengths %g, %g, %g) would break the normals", lengths[0],
+                             lengths[1], lengths[2]);
   }
-  if (dot(cross(col[0], col[1]), col[2]) < 0.0f)
+  const Column normal{col[0].y * col[1].z - col[0].z * col[1].y, col[0].z * col[1].x - col[0].x * col[1].z,
+                      col[0].x * col[1].y - col[0].y * col[1].x};
+  if (dot(normal, col[2]) < 0.0)
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "reflection would turn the field inside out");
-  const float inv = 1.0f / scale;
+  Body placed = *this;
+  placed.scale_ = float(scale);
+  placed.inv_scale_ = 1.0f / placed.scale_;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
-      rotation_[3 * r + c] = m[4 * r + c] * inv;
-  scale_ = scale;
-  inv_scale_ = inv;
-  translation_ = {m[3], m[7], m[11]};
-  updateBounds();
+      placed.rotation_[3 * r + c] = m[4 * r + c] * placed.inv_scale_;
+  placed.translation_ = {m[3], m[7], m[11]};
+  placed.updateBounds();
+  if (field_ != nullptr && !(isFinite(placed.bounds_min_) && isFinite(placed.bounds_max_)))
+    return writeDiagnostic(out_diag, Status::kInvalidArgument, "the transformed field's box overflows float's range");
+  *this = placed;
   return Status::kOk;
 }
 
 Status Body::setTransform(Vec3f t, const float q[4], float scale, Diagnostic* out_diag) {
   if (q == nullptr) return writeDiagnostic(out_diag, Status::kInvalidArgument, "quaternion is null");
-  const float len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  if (!(len > 0.0f) || !std::isfinite(len))
-    return writeDiagnostic(out_diag, Status::kInvalidArgument, "quaternion must be finite and non-zero");
-  const float w = q[0] / len, x = q[1] / len, y = q[2] / len, z = q[3] / len;
+  if (!allFinite(q, 4)) return writeDiagnostic(out_diag, Status::kInvalidArgument, "quaternion must be finite");
+  const Column v{q[1], q[2], q[3]};
+  const double len = std::sqrt(double(q[0]) * q[0] + dot(v, v));
+  if (!(len > 0.0)) return writeDiagnostic(out_diag, Status::kInvalidArgument, "quaternion must be non-zero");
+  const float w = float(q[0] / len), x = float(q[1] / len), y = float(q[2] / len), z = float(q[3] / len);
   const float r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
                       2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
                       2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};

@@ -83,6 +83,18 @@ double cellEdge(const double extent[3], std::size_t bodies) {
 
 BodyMotion motionOf(const Body& body, float dt) { return {poseAfter(body, dt), bodyTravel(body, dt)}; }
 
+Status checkMotion(const Body& body, std::size_t index, float dt, Diagnostic* out_diag) {
+  const BodyMotion motion = motionOf(body, dt);
+  bool finite = std::isfinite(motion.travel) && isFinite(motion.end.t);
+  for (float r : motion.end.r)
+    finite = finite && std::isfinite(r);
+  if (finite) return Status::kOk;
+  const Vec3f v = body.linearVelocity(), w = body.angularVelocity();
+  return writeDiagnostic(out_diag, Status::kInvalidArgument,
+                         "body %zu: its velocities (linear %g %g %g, angular %g %g %g) give no finite motion over dt",
+                         index, double(v.x), double(v.y), double(v.z), double(w.x), double(w.y), double(w.z));
+}
+
 // ---- The grid ----
 
 namespace {
@@ -242,7 +254,7 @@ bool BodyIndex::Impl::matches(const Body* bodies, std::size_t body_count, std::s
     const std::uint32_t* built_state = &states[b * kStateFloats];
     std::uint32_t differ = 0;
     forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { differ |= bits ^ built_state[k]; });
-    if (differ != 0 || bodies[b].field() != fields[b]) {
+    if (differ != 0 || bodies[b].field() != fields[b] || !fieldUnchanged(prepared[b], bodies[b])) {
       *out_changed = b;
       return false;
     }
@@ -267,6 +279,8 @@ Status BodyIndex::rebuild(const Body* bodies, std::size_t count, float dt, Diagn
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "%zu bodies is too many for an index", count);
   for (std::size_t b = 0; b < count; ++b) {
     if (!bodies[b].valid()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "body %zu is not valid", b);
+    const Status motion = checkMotion(bodies[b], b, dt, out_diag);
+    if (motion != Status::kOk) return motion;
   }
   try {
     if (impl_ == nullptr) impl_.reset(new Impl);

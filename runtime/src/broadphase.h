@@ -31,6 +31,9 @@ struct BodyMotion {
   float travel = 0.0f;
 };
 BodyMotion motionOf(const Body& body, float dt);
+/// kInvalidArgument, naming body `index`, when its velocities do not give a finite motion over dt (a
+/// velocity not finite, or one so large its travel overflows): the walk could not judge its moves.
+Status checkMotion(const Body& body, std::size_t index, float dt, Diagnostic* out_diag);
 
 /// One body as the SIMD kernels see it in a step: what follows from its field, pose and motion, computed
 /// with the expressions the scalar path uses, so both paths compare the same numbers. Nothing of the
@@ -51,6 +54,10 @@ struct StepBody {
 };
 /// Out of line (step.cpp, beside the walk's margin), for the index and the step alike.
 StepBody prepareStep(const Body& body, const BodyMotion& motion);
+
+/// Whether what `prepared` (prepareStep's) took from `body`'s field still holds: a View opened again in
+/// place may hold another file, and the kernels trust these numbers (the encoding picks the lookup).
+bool fieldUnchanged(const StepBody& prepared, const Body& body);
 
 /// The sorted body lists a query box reads, or `all` when it must test every body.
 struct CandidateLists {

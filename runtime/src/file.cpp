@@ -46,7 +46,9 @@ Status File::open(const char* path, File* out_file, Diagnostic* out_diag) {
   if (path == nullptr || out_file == nullptr)
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "path and out_file must not be null");
   out_file->release();
-  const int fd = ::open(path, O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: opening a FIFO would otherwise wait for a writer; a regular file (all that is mapped,
+  // checked below) ignores it.
+  const int fd = ::open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return writeDiagnostic(out_diag, Status::kIoError, "cannot open '%s': %s", path, std::strerror(errno));
   struct stat info;
   if (fstat(fd, &info) != 0) {

@@ -18,6 +18,8 @@ Status checkSpan(const ParticleSpan& s, float dt, bool reads_positions, Diagnost
     return writeDiagnostic(diag, Status::kInvalidArgument, "the span's velocity arrays must not be null");
   if (reads_positions && (s.position_x == nullptr || s.position_y == nullptr || s.position_z == nullptr))
     return writeDiagnostic(diag, Status::kInvalidArgument, "this force reads positions: they must not be null");
+  if (!validStride(s.velocity_stride) || (reads_positions && !validStride(s.position_stride)))
+    return writeDiagnostic(diag, Status::kInvalidArgument, "particle strides must be whole floats, at least 4 bytes");
   return Status::kOk;
 }
 

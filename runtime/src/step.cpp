@@ -26,10 +26,6 @@ namespace dng {
 
 namespace {
 
-// The walk keeps this much of a voxel between a particle and the surface: more than rounding in the
-// next step's sample and than the planes' largest measured overshoot (0.05 voxel, in exact mode
-// between a medial axis and the band's edge: docs/FORMAT.md §5.1).
-constexpr float kMarginVoxels = 0.06f;
 int walkSamples(const Body& body) { return walkSamples(body.material()); } // step_batch.h
 
 // +0 in every component, bit for bit (a body at rest: its lanes may take splatted zeros for it).
@@ -261,12 +257,16 @@ Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_
     return writeDiagnostic(diag, Status::kInvalidArgument, "bodies is null but body_count is %zu", body_count);
   for (std::size_t b = 0; b < body_count; ++b) {
     if (!bodies[b].valid()) return writeDiagnostic(diag, Status::kInvalidArgument, "body %zu is not valid", b);
+    const Status motion = checkMotion(bodies[b], b, dt, diag);
+    if (motion != Status::kOk) return motion;
   }
   if (s.count == 0) return Status::kOk;
   if (!s.position_x || !s.position_y || !s.position_z || !s.velocity_x || !s.velocity_y || !s.velocity_z)
     return writeDiagnostic(diag, Status::kInvalidArgument, "particle position and velocity pointers must be set");
-  if (s.position_stride < sizeof(float) || s.velocity_stride < sizeof(float))
-    return writeDiagnostic(diag, Status::kInvalidArgument, "particle strides must be at least 4 bytes");
+  if (!validStride(s.position_stride) || !validStride(s.velocity_stride))
+    return writeDiagnostic(diag, Status::kInvalidArgument,
+                           "particle strides must be whole floats, at least 4 bytes (got %zu and %zu)",
+                           s.position_stride, s.velocity_stride);
   return Status::kOk;
 }
 
@@ -446,6 +446,14 @@ StepBody prepareStep(const Body& body, const BodyMotion& motion) {
   return out;
 }
 
+bool fieldUnchanged(const StepBody& prepared, const Body& body) {
+  const View& field = *body.field();
+  const StepBody now = prepareStep(body, {});
+  return prepared.field == &field && prepared.dense == now.dense && prepared.band_world == now.band_world &&
+         prepared.margin == now.margin && prepared.reach == now.reach && prepared.roomy == now.roomy &&
+         prepared.proof_level == now.proof_level;
+}
+
 Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
                      Diagnostic* out_diag) {
   const Status status = checkStep(particles, dt, bodies, body_count, out_diag);
@@ -468,7 +476,8 @@ Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies
   std::size_t changed = 0;
   if (!built.matches(bodies, body_count, &changed))
     return writeDiagnostic(out_diag, Status::kInvalidArgument,
-                           "the body index is stale: body %zu moved or changed velocity since its rebuild", changed);
+                           "the body index is stale: body %zu moved, changed velocity or field since its rebuild",
+                           changed);
   return step(particles, dt, bodies, body_count, &built);
 }
 

@@ -10,6 +10,11 @@
 
 namespace dng {
 
+/// A stride the spans accept: whole floats (a float read at any other offset is misaligned), at least one.
+inline bool validStride(std::size_t stride_bytes) {
+  return stride_bytes >= sizeof(float) && stride_bytes % sizeof(float) == 0;
+}
+
 inline float& strided(float* base, std::size_t stride_bytes, std::size_t n) {
   return *reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride_bytes);
 }

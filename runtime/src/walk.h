@@ -36,6 +36,16 @@ struct WalkResult {
   Vec3f normal;   ///< local frame, unit: the blocking plane's normal (kPlane) or minus the motion (kReverse)
 };
 
+/// The walk keeps this much of a voxel between a particle and the surface: more than rounding in the
+/// next step's sample and than the planes' largest measured overshoot (0.05 voxel, in exact mode
+/// between a medial axis and the band's edge: docs/FORMAT.md §5.1).
+constexpr float kMarginVoxels = 0.06f;
+
+/// Whether the step can walk through `field`: its guaranteed reach leaves room beyond the margin. A
+/// thinner band (under about 0.93 voxel; dngbake writes at least 1) would give every ball a negative
+/// radius, and walks would step backwards.
+inline bool walkable(const View& field) { return field.guaranteedReach() > kMarginVoxels * field.grid().voxel_size; }
+
 /// A ball that leaves this much room (local units) around a walk's end point needs no look at the end
 /// point itself: that far out the planes prove any point outside.
 inline float walkRoomy(const View& field) { return 3.0f * field.grid().voxel_size; }

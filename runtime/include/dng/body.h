@@ -54,11 +54,13 @@ public:
   Body() = default;
 
   /// A body of `field` at the identity transform, at rest. Fails (leaving *out_body empty) when the
-  /// view is not valid or the material is invalid.
+  /// view is not valid, its band is too thin to step through (under about 0.93 voxel: the guaranteed
+  /// reach must exceed the walk's margin; dngbake writes at least 1 voxel) or the material is invalid.
   static Status create(const View* field, const Material& material, Body* out_body, Diagnostic* out_diag = nullptr);
 
   /// Sets the transform from a row-major 3x4 matrix [s*R | t] (local -> world). Rejects, leaving the
-  /// body unchanged: non-finite entries, zero scale, shear, non-uniform scale and reflections (they
+  /// body unchanged: non-finite entries, a scale that is zero or whose value or inverse is not a normal
+  /// float, a placed box that overflows float's range, shear, non-uniform scale and reflections (they
   /// break the normals). Tolerance: 1e-4 relative.
   Status setTransform(const float row_major_3x4[12], Diagnostic* out_diag = nullptr);
 
@@ -68,7 +70,8 @@ public:
   /// World-frame linear velocity of the body origin and angular velocity (rad/s) about it. The
   /// transform is the body's pose at the start of a step; stepParticles moves the body on at these
   /// velocities for dt and judges each particle's motion against both poses (docs/RUNTIME.md), so
-  /// set them to how the body really moves over the coming step.
+  /// set them to how the body really moves over the coming step. Any values are kept; stepParticles
+  /// and BodyIndex::rebuild refuse a body whose velocities give no finite motion over their dt.
   void setVelocity(Vec3f linear, Vec3f angular) {
     linear_velocity_ = linear;
     angular_velocity_ = angular;

@@ -33,7 +33,8 @@ public:
   /// when it is enough; never throws. Call it again whenever a body moves, turns, changes velocity or
   /// field, or the set of bodies or dt changes (materials may change freely). Fails, leaving the index
   /// empty (built() false): kInvalidArgument when dt is not finite and > 0, bodies is null with count
-  /// > 0, a body is not valid or count >= 2^31; kOutOfMemory.
+  /// > 0, a body is not valid or its velocities give no finite motion
+  /// over dt, or count >= 2^31; kOutOfMemory.
   Status rebuild(const Body* bodies, std::size_t count, float dt, Diagnostic* out_diag = nullptr);
 
   /// Whether the last rebuild succeeded.

@@ -19,7 +19,11 @@ public:
   File& operator=(const File&) = delete;
 
   /// Maps the file at `path` (NUL-terminated) read-only and validates it with View::open. On failure
-  /// returns the status, leaves `*out_file` empty and fills `out_diag` when given. Never throws.
+  /// returns the status, leaves `*out_file` empty and fills `out_diag` when given. Never throws, and
+  /// never waits: anything but a regular file (a FIFO, a device, a directory) is refused with kIoError.
+  /// The mapping reads the file as it is on disk: replace a baked file by renaming a new one over it
+  /// (dngbake does), never by rewriting it in place, since a file cut short under a mapping ends the
+  /// process that reads past its new end (SIGBUS).
   static Status open(const char* path, File* out_file, Diagnostic* out_diag = nullptr);
 
   /// The validated view; an empty View (valid() false) when the File is empty.

@@ -3,7 +3,8 @@
 //
 // They follow stepParticles' contract: they take the same ParticleSpan, never allocate, and return
 // kInvalidArgument (filling `out_diag` when given) without touching any particle when dt is not finite
-// and > 0, a parameter is not finite or out of range, or an array they need is null. They read only
+// and > 0, a parameter is not finite or out of range, an array they need is null, or its stride is not
+// a whole number of floats (at least one). They read only
 // what they need: gravity and air drag read and write velocities only, so a span without positions
 // works for them; explosions also read positions.
 #pragma once

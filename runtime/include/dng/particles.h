@@ -11,8 +11,8 @@
 namespace dng {
 
 /// Caller-owned particle data, structure-of-arrays or array-of-structures alike: particle n's x
-/// position is at byte offset n * position_stride from position_x, and so on. Strides are in bytes
-/// (4 for packed SoA arrays, sizeof(YourParticle) for AoS). Positions and velocities are world-frame.
+/// position is at byte offset n * position_stride from position_x, and so on. Strides are in bytes,
+/// multiples of 4 (4 for packed SoA arrays, sizeof(YourParticle) for AoS). Positions and velocities are world-frame.
 struct ParticleSpan {
   float* position_x = nullptr;
   float* position_y = nullptr;
@@ -40,7 +40,8 @@ struct ParticleSpan {
 ///
 /// No allocation, no exceptions, no virtual calls. Particles are independent, so callers may split a
 /// span across threads. Fails without touching any particle when dt is not finite and > 0, a body is
-/// invalid, or a required pointer is null.
+/// invalid or its velocities give no finite motion over dt, a required pointer is null, or a stride is
+/// not a whole number of floats (at least one).
 Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
                      Diagnostic* out_diag = nullptr);
 
