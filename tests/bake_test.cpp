@@ -22,6 +22,8 @@
 #include <fstream>
 #include <random>
 
+#include <sys/stat.h>
+
 namespace dng {
 namespace baker {
 namespace {
@@ -663,8 +665,12 @@ ProgramRun runDngbake(const std::string& args) {
 TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("good.obj"));
   std::ofstream(path("empty.obj")) << "";
-  // OpenMesh's OBJ reader cannot even parse "nan" (the vertex is dropped); binary STL carries raw floats.
+  // OpenMesh's OBJ reader cannot even parse "nan" (the vertex is dropped, and later face indices name
+  // the wrong vertices); binary STL carries raw floats. The guards read the coordinates first.
   std::ofstream(path("nan_text.obj")) << "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n";
+  std::ofstream(path("huge.off")) << "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n";
+  std::ofstream(path("nan_text.stl")) << "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                         "vertex 0 nan 0\nendloop\nendfacet\nendsolid s\n";
   {
     std::ofstream stl(path("nan.stl"), std::ios::binary);
     const char header[80] = "binary STL with a NaN";
@@ -696,8 +702,14 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("absent.obj"), 2, "no such file"},
       {path("mesh.xyzw"), 5, "unknown mesh format"},
       {path("mesh.fbx"), 3, "assimp could not read it"},
-      {path("nan.stl"), 3, "declares 1 facets but OpenMesh kept 0"}, // OpenMesh drops the NaN facet
-      {path("nan_text.obj"), 3, "no faces"},                         // the reader drops the face: we cannot tell why
+      {path("nan.stl"), 3, "facet 0 has a NaN or infinite vertex coordinate"},
+      {path("nan_text.stl"), 3, "line 6: vertex has coordinate 'nan', not a finite number"},
+      {path("nan_text.obj"), 3, "line 3: vertex has coordinate 'nan', not a finite number"},
+      {path("huge.off"), 3, "OFF vertex 1 has coordinate '1e39', not a finite number"},
+      // One bad or empty input among several: the union used to hide it (a NaN vertex in a second OFF
+      // baked 84 million garbage triangles).
+      {path("good.obj") + " " + path("huge.off"), 3, "not a finite number"},
+      {path("good.obj") + " " + path("empty.obj"), 3, "empty.obj': the mesh has no faces"},
       {path("flat.obj"), 3, "degenerate"},
       {path("no_index.obj"), 3, "line 4: face vertex '/1' has no vertex index"},
       {path("misspelt.ply"), 3, "line 3 'eLement vertex 3' has an unknown keyword"},
@@ -714,6 +726,18 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("absent.obj") + " --band 0.5", 1, "--band"},
       {path("absent.obj") + " --voxel-size -2", 1, "--voxel-size"},
       {path("absent.obj") + " --brick-size 5", 1, "--brick-size"},
+      {path("absent.obj") + " --band 1e30", 1, "--band must be between 1 and 2048"},
+      {path("absent.obj") + " --voxel-size 1e-7", 1, "--voxel-size must be at least 1.5e-05"},
+      // Said in a line, before the mesh is read (a NaN scale had failed as a mesh with NaN vertices, a
+      // zero one printed the whole range of a double).
+      {path("absent.obj") + " --scale nan", 1, "--scale: must be a finite number > 0, got 'nan'"},
+      {path("absent.obj") + " --scale 0", 1, "--scale: must be a finite number > 0, got '0'"},
+      {path("absent.obj") + " --scene -1", 1, "--scene: must be a whole number >= 0, got '-1'"},
+      {path("absent.obj") + " --voxel-size 0", 1, "--voxel-size: must be a finite number > 0"},
+      // Grids the format or OpenVDB cannot hold: refused when placed, not after the whole bake (exit 4).
+      {path("good.obj") + " --scale 1e-6", 1, "below OpenVDB's smallest (1.5e-05)"},
+      {path("good.obj") + " --scale 2e18", 1, "beyond +-1e18, the format's range"},
+      {path("good.obj") + " --max-speed 1e30 --dt 1", 1, "more than a grid of 2048 holds"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
@@ -725,6 +749,36 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
     const ProgramRun kept = runDngbake(c.args + " -o " + path("keep.dng"));
     EXPECT_EQ(testing::readFile(path("keep.dng")), "previous contents");
   }
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
+}
+
+// Nothing an output path names is ever lost: not an input, not the other output, not a device or a
+// pipe (a rename over /dev/null replaced the device), not a previous export when the .dng cannot be
+// written (both outputs are written in full before either replaces a file).
+TEST_F(BakeTest, OutputsThatWouldDestroySomethingAreRefused) {
+  testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("box.obj"));
+  const std::string mesh = testing::readFile(path("box.obj"));
+  ProgramRun run = runDngbake(path("box.obj") + " -o " + dir_.string() + "/./box.obj");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("is the input"), std::string::npos) << run.output;
+  EXPECT_EQ(testing::readFile(path("box.obj")), mesh);
+  run = runDngbake(path("box.obj") + " -o " + path("both") + " --export-vdb " + path("both"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_FALSE(fs::exists(path("both")));
+  ASSERT_EQ(::mkfifo(path("pipe").c_str(), 0600), 0);
+  run = runDngbake(path("box.obj") + " -o " + path("pipe"));
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("not a regular file"), std::string::npos) << run.output;
+  EXPECT_TRUE(fs::is_fifo(path("pipe")));
+  std::ofstream(path("old.vdb")) << "previous export";
+  run = runDngbake(path("box.obj") + " --resolution 16 -o " + path("missing/out.dng") + " --export-vdb " +
+                   path("old.vdb"));
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_EQ(testing::readFile(path("old.vdb")), "previous export");
+  run = runDngbake(path("box.obj") + " --resolution 16 -o " + path("out.dng") + " --export-vdb " + path("old.vdb"));
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(testing::readFile(path("old.vdb")), "previous export");
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
 }
@@ -787,7 +841,8 @@ TEST_F(BakeTest, InterruptDuringTheWritesFinishesAndReportsSuccess) {
         "bash -c '" +
         startDngbake(path("late.obj") + " -o " + path("late.dng") + " --export-vdb " + path("late.vdb") +
                      " --resolution 160 --json 2>" + path("stderr.txt")) +
-        "until compgen -G \"" + path("late.vdb") + ".tmp.*\" >/dev/null; do kill -0 $pid 2>/dev/null || break; done; " +
+        "until compgen -G \"" + path(".late.vdb") +
+        ".tmp.*\" >/dev/null; do kill -0 $pid 2>/dev/null || break; done; " +
         "kill -INT $pid 2>/dev/null && echo sent >&2; wait $pid; echo \"status $?\"' 2>" + path("sent.txt"));
     if (testing::readFile(path("sent.txt")).find("sent") == std::string::npos) continue; // too late: again
     ++landed;

@@ -180,6 +180,22 @@ TEST_F(DumpTest, SliceIsAPictureWithTheContourWhereTheSurfaceIs) {
   EXPECT_EQ(dngdump(dir_, "box.dng --slice z=99 --png far.png").exit_code, 1);
   EXPECT_EQ(dngdump(dir_, "box.dng --slice w=1 --png w.png").exit_code, 1);
   EXPECT_FALSE(fs::exists(dir_ + "/far.png"));
+  // The picture never replaces the file being read, nor anything but a regular file.
+  const ProgramRun over_input = dngdump(dir_, "box.dng --slice z=0.5 --png ./box.dng", true);
+  EXPECT_EQ(over_input.exit_code, 1) << over_input.out;
+  EXPECT_NE(over_input.out.find("is the file being read"), std::string::npos) << over_input.out;
+  EXPECT_EQ(testing::readFileBytes(dir_ + "/box.dng"), bytes_);
+  fs::create_directory(dir_ + "/pictures");
+  EXPECT_EQ(dngdump(dir_, "box.dng --slice z=0.5 --png pictures").exit_code, 2);
+  EXPECT_TRUE(fs::is_directory(dir_ + "/pictures"));
+}
+
+// --points names a file of points: a folder is an I/O error (it had read as no points at all).
+TEST_F(DumpTest, QueryPointsFromAFolderAreAnIoError) {
+  fs::create_directory(dir_ + "/points");
+  const ProgramRun run = dngdump(dir_, "box.dng --query --points points", true);
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_NE(run.out.find("cannot read points"), std::string::npos) << run.out;
 }
 
 TEST_F(DumpTest, StatsCountTheBand) {

@@ -6,6 +6,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
 namespace dng {
 namespace tools {
 
@@ -18,6 +23,33 @@ inline int parseOrExitCode(CLI::App& app, int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kExitOk : kExitUsage;
   }
+}
+
+/// A whole number from 0 to 2^31 - 1, refused in one line (CLI11's own range checks print the whole
+/// range of a double).
+inline CLI::Validator wholeAtLeastZero() {
+  return CLI::Validator(
+      [](std::string& text) {
+        char* end = nullptr;
+        const long value = std::strtol(text.c_str(), &end, 10);
+        return end != text.c_str() && *end == '\0' && value >= 0 && value <= INT32_MAX
+                   ? std::string()
+                   : "must be a whole number >= 0, got '" + text + "'";
+      },
+      "INDEX");
+}
+
+/// A number > 0 that is finite as a float, refused in one line.
+inline CLI::Validator finitePositive() {
+  return CLI::Validator(
+      [](std::string& text) {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        return end != text.c_str() && *end == '\0' && value > 0.0 && std::isfinite(float(value))
+                   ? std::string()
+                   : "must be a finite number > 0, got '" + text + "'";
+      },
+      "POSITIVE");
 }
 
 } // namespace tools

@@ -75,7 +75,9 @@ void addOptions(CLI::App& app, CommandLine& cl) {
   app.add_option("--mode", cl.bake.mode, "normals: normal-blur (paper method 1), potential (method 2), exact")
       ->transform(CLI::CheckedTransformer(modes, CLI::ignore_case));
   auto* resolution = app.add_option("--resolution", cl.bake.resolution, "voxels along the longest axis (default 128)");
-  app.add_option("--voxel-size", cl.bake.voxel_size, "voxel edge in mesh units")->excludes(resolution);
+  app.add_option("--voxel-size", cl.bake.voxel_size, "voxel edge in mesh units")
+      ->check(dng::tools::finitePositive())
+      ->excludes(resolution);
   auto* band = app.add_option("--band", cl.bake.band_voxels, "field thickness in voxels (default 4)");
   auto* speed =
       app.add_option("--max-speed", cl.bake.max_speed, "fastest particle, mesh units/s (with --dt)")->excludes(band);

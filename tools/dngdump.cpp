@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -62,8 +63,9 @@ int runCheck(const CommandLine& cl, const View& view) {
 int runQuery(const CommandLine& cl, const View& view) {
   std::ifstream file;
   if (!cl.points.empty()) {
-    file.open(cl.points);
-    if (!file) {
+    std::error_code error;
+    if (!std::filesystem::is_directory(cl.points, error)) file.open(cl.points); // a pipe is fine
+    if (!file.is_open()) {
       std::fprintf(stderr, "dngdump: error: cannot read points from '%s'\n", cl.points.c_str());
       return kExitIo;
     }
@@ -90,7 +92,29 @@ int runQuery(const CommandLine& cl, const View& view) {
                   double(s.normal.z));
     }
   }
+  if (in.bad()) {
+    std::fprintf(stderr, "dngdump: error: reading points failed\n");
+    return kExitIo;
+  }
   return bad_lines == 0 ? kExitOk : kExitInvalid;
+}
+
+// --png must not replace the file being read, nor anything that is not a regular file (a rename over
+// /dev/null replaces the device).
+int checkPicturePath(const CommandLine& cl) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::exists(cl.png, error) && fs::equivalent(cl.png, cl.file, error)) {
+    std::fprintf(stderr, "dngdump: error: --png '%s' is the file being read: refusing to write over it\n",
+                 cl.png.c_str());
+    return kExitUsage;
+  }
+  const fs::file_status status = fs::status(cl.png, error);
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    std::fprintf(stderr, "dngdump: error: --png '%s' exists and is not a regular file\n", cl.png.c_str());
+    return kExitIo;
+  }
+  return kExitOk;
 }
 
 int runSlice(const CommandLine& cl, const View& view) {
@@ -111,6 +135,7 @@ int runSlice(const CommandLine& cl, const View& view) {
   request.axis = s[0] - 'x';
   request.scale = cl.scale;
   request.png = cl.png;
+  if (const int refused = checkPicturePath(cl); refused != kExitOk) return refused;
   return renderSlice(view, request);
 }
 

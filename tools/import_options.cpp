@@ -1,6 +1,8 @@
 // dngbake's input options and the per-file, per-node part of its JSON report.
 #include "import_options.h"
 
+#include "command_line.h"
+
 #include <cmath>
 
 namespace dng {
@@ -25,7 +27,7 @@ void addImportOptions(CLI::App& app, baker::BakeInputs& inputs) {
                  "format assimp reads: .fbx .dae .3ds .blend ...)")
       ->required();
   app.add_option("--scene", inputs.import.scene, "scene files: the scene to bake (default: the file's default)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(wholeAtLeastZero());
   app.add_option("--node", inputs.import.nodes, "scene files: bake only this node's subtree (repeatable)")
       ->allow_extra_args(false); // one name per --node: the next word is an input again
   app.add_option_function<std::string>(
@@ -37,7 +39,7 @@ void addImportOptions(CLI::App& app, baker::BakeInputs& inputs) {
          "the unit of inputs that do not say theirs (OBJ, OFF, PLY, STL, OM, ...)")
       ->check(lengthUnit());
   app.add_option("--scale", inputs.units.scale, "multiply every coordinate by this, after unit conversion (> 0)")
-      ->check(CLI::PositiveNumber);
+      ->check(finitePositive());
 }
 
 nlohmann::ordered_json importReportJson(const std::vector<baker::ImportReport>& inputs) {

@@ -203,11 +203,16 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   timer.done("encode");
   // From here on nothing cancels: a bake that starts writing finishes (bake.h), and says so.
 
+  // Both outputs are written in full before either replaces a file: a failure leaves both as they were.
+  StagedOutputs staged;
   if (!outputs.vdb.empty()) {
-    if (!(status = exportVdb(band, outputs.vdb)).ok()) return status;
+    std::string temp;
+    if (!(status = staged.reserve(outputs.vdb, &temp)).ok()) return status;
+    if (!(status = exportVdb(band, temp, outputs.vdb)).ok()) return status;
     timer.done("export_vdb");
   }
-  if (!(status = writeFileAtomically(outputs.dng, encoded.bytes)).ok()) return status;
+  if (!(status = staged.write(outputs.dng, encoded.bytes)).ok()) return status;
+  if (!(status = staged.commit()).ok()) return status;
   report->output_bytes = encoded.bytes.size();
   timer.done("write");
   return BakeStatus::success();
@@ -234,6 +239,7 @@ BakeStatus bake(const BakeInputs& inputs, const BakeOutputs& outputs, const Bake
                 void* user, BakeReport* report) {
   // Every option first: a bad value must cost nothing and be reported as the usage error it is.
   if (BakeStatus checked = checkBakeOptions(options); !checked.ok()) return checked;
+  if (BakeStatus checked = checkOutputPaths(inputs.paths, outputs); !checked.ok()) return checked;
   BakeReport unused; // the stages fill a report as they go, wanted or not
   if (report == nullptr) report = &unused;
   try {

@@ -2,6 +2,7 @@
 // costs nothing and is reported as what it is (a usage error naming the option), never as a failure
 // of the stage that would first have tripped over it.
 #include "dng/baker/bake.h"
+#include "stages.h"
 
 #include <cmath>
 #include <string>
@@ -15,13 +16,17 @@ BakeStatus bad(const std::string& message) { return BakeStatus::failure(BakeErro
 
 BakeStatus checkGridOptions(const BakeOptions& o) {
   if (!(o.voxel_size >= 0.0f) || !std::isfinite(o.voxel_size)) return bad("--voxel-size must be a positive number");
+  if (o.voxel_size > 0.0f && o.voxel_size < kMinVoxelSize)
+    return bad("--voxel-size must be at least " + shortNumber(kMinVoxelSize) +
+               " (OpenVDB's smallest voxel): bake in smaller units (--units, --scale)");
   if (o.voxel_size == 0.0f && (o.resolution < kMinResolution || o.resolution > kMaxBakeAxisVoxels))
     return bad("--resolution must be between " + std::to_string(kMinResolution) + " and " +
                std::to_string(kMaxBakeAxisVoxels));
   if ((o.max_speed > 0.0f) != (o.dt > 0.0f) || !std::isfinite(o.max_speed) || !std::isfinite(o.dt) ||
       !(o.max_speed >= 0.0f) || !(o.dt >= 0.0f))
     return bad("--max-speed and --dt go together, both positive");
-  if (!(o.band_voxels >= 1.0f) || !std::isfinite(o.band_voxels)) return bad("--band must be at least 1 voxel");
+  if (!(o.band_voxels >= 1.0f) || !(o.band_voxels <= float(kMaxBakeAxisVoxels)))
+    return bad("--band must be between 1 and " + std::to_string(kMaxBakeAxisVoxels) + " voxels");
   return BakeStatus::success();
 }
 

@@ -7,16 +7,10 @@
 #include "band_grid_vdb.h"
 #include "stages.h"
 
-#include <cstdio>
-#include <filesystem>
-#include <unistd.h>
-
 namespace dng {
 namespace baker {
 
-BakeStatus exportVdb(const BandGrid& band, const std::string& path) {
-  // Same promise as the .dng: the old file or the new one, never half of one.
-  const std::string temp = path + ".tmp." + std::to_string(::getpid());
+BakeStatus exportVdb(const BandGrid& band, const std::string& temp, const std::string& path) {
   try {
     openvdb::io::File file(temp);
     const BandGrid::Impl& grids = band.impl();
@@ -32,14 +26,7 @@ BakeStatus exportVdb(const BandGrid& band, const std::string& path) {
     file.write(written);
     file.close();
   } catch (const std::exception& e) {
-    std::remove(temp.c_str());
     return BakeStatus::failure(BakeError::kIo, "cannot write '" + path + "': " + e.what());
-  }
-  std::error_code error;
-  std::filesystem::rename(temp, path, error);
-  if (error) {
-    std::remove(temp.c_str());
-    return BakeStatus::failure(BakeError::kIo, "cannot replace '" + path + "': " + error.message());
   }
   return BakeStatus::success();
 }

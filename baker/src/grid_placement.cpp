@@ -49,6 +49,14 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
     voxel = longest / inner;
   }
   const float band = bandVoxels(options, voxel);
+  if (!(voxel >= kMinVoxelSize))
+    return BakeStatus::failure(BakeError::kBadOption, "the voxel size would be " + shortNumber(voxel) +
+                                                          ", below OpenVDB's smallest (" + shortNumber(kMinVoxelSize) +
+                                                          "): bake in smaller units (--units, --scale)");
+  if (!(band <= float(kMaxBakeAxisVoxels)))
+    return BakeStatus::failure(BakeError::kBadOption, "--max-speed x --dt gives a band of " + shortNumber(band) +
+                                                          " voxels, more than a grid of " +
+                                                          std::to_string(kMaxBakeAxisVoxels) + " holds");
   format::GridGeometry g;
   g.voxel_size = voxel;
   g.band = band * voxel;
@@ -58,16 +66,24 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
   for (int a = 0; a < 3; ++a) {
     const float inner = std::ceil(axis_extent[a] / voxel);
     const double dims = double(inner) + 2.0 * pad;
-    if (dims > kMaxBakeAxisVoxels)
-      return BakeStatus::failure(BakeError::kBadOption, "the grid would need " + std::to_string(std::uint64_t(dims)) +
-                                                            " voxels along one axis (at most " +
-                                                            std::to_string(kMaxBakeAxisVoxels) +
-                                                            "): use a larger voxel size");
+    if (!(dims <= kMaxBakeAxisVoxels)) // also when the mesh's extent over the voxel overflows
+      return BakeStatus::failure(BakeError::kBadOption,
+                                 "the grid would need " + shortNumber(dims) + " voxels along one axis (at most " +
+                                     std::to_string(kMaxBakeAxisVoxels) + "): use a larger voxel size");
     g.dims[a] = std::uint32_t(dims);
     // Centre the mesh in its padded box.
     origin[a] = axis_min[a] - (float(g.dims[a]) * voxel - axis_extent[a]) * 0.5f;
   }
   g.origin = {origin[0], origin[1], origin[2]};
+  // The format's range for placements (format::kMaxMagnitude): past it the encoder would fail only
+  // after the whole bake.
+  for (int a = 0; a < 3; ++a) {
+    if (!(std::fabs(origin[a]) + float(g.dims[a]) * voxel <= format::kMaxMagnitude) ||
+        !(g.band <= format::kMaxMagnitude))
+      return BakeStatus::failure(BakeError::kBadOption,
+                                 "the grid would reach beyond +-1e18, the format's range: bake in larger units "
+                                 "(--units, --scale) or a smaller voxel size or band");
+  }
   const double voxels = double(g.dims[0]) * g.dims[1] * g.dims[2];
   if (options.encoding == format::Encoding::kDense && voxels > kMaxDenseVoxels)
     return BakeStatus::failure(BakeError::kBadOption,
@@ -75,9 +91,10 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
                                    " voxels; dense files hold at most 134,217,728 (512^3, 2 GB): use "
                                    "--encoding bricked, a larger --voxel-size or a smaller --resolution");
   if (band * 4.0f > float(std::min({g.dims[0], g.dims[1], g.dims[2]})))
-    io_warnings->push_back("the band (" + std::to_string(band) +
-                           " voxels) is more than a quarter of the grid: particles this fast need a coarser grid or "
-                           "swept steps");
+    io_warnings->push_back("the band (" + shortNumber(band) + " voxels) is more than a quarter of the grid's " +
+                           "thinnest side (" + std::to_string(std::min({g.dims[0], g.dims[1], g.dims[2]})) +
+                           " voxels): most of the file is band (a flat mesh, or a band for particles so fast "
+                           "they would be better served by a coarser grid or swept steps)");
   *out = g;
   return BakeStatus::success();
 }

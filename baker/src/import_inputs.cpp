@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 
 namespace dng {
@@ -107,15 +108,22 @@ BakeStatus importInputs(const std::vector<std::string>& paths, const ImportOptio
                         std::vector<std::string>* io_warnings) {
   *out_soup = TriangleSoup();
   out_reports->assign(paths.size(), ImportReport());
+  if (!(units.scale > 0.0) || !std::isfinite(float(units.scale)))
+    return BakeStatus::failure(BakeError::kBadOption, "--scale must be a finite number > 0");
   for (std::size_t i = 0; i < paths.size(); ++i) {
     ImportReport& report = (*out_reports)[i];
     const std::size_t first_vertex = out_soup->vertices.size();
     const BakeStatus status = importOne(paths[i], options, out_soup, &report);
     if (!status.ok()) return status;
-    // An empty mesh file is left to requireBakeable ("no faces", with the reader's messages); an empty
-    // scene is said here, where it is known.
-    if (options.nodes.empty() && report.triangles == 0 && report.importer != "openmesh")
-      return BakeStatus::failure(BakeError::kInvalidInput, "'" + paths[i] + "': the scene holds no triangles");
+    // A lone empty mesh file is left to requireBakeable ("no faces", with the reader's messages); an
+    // empty scene, or one empty input among several (the union would hide it), is said here.
+    if (options.nodes.empty() && report.triangles == 0 && (report.importer != "openmesh" || paths.size() > 1)) {
+      const std::string why = report.messages.empty() ? "" : " (" + report.messages.front() + ")";
+      return BakeStatus::failure(
+          BakeError::kInvalidInput,
+          "'" + paths[i] +
+              "': " + (report.importer == "openmesh" ? "the mesh has no faces" : "the scene holds no triangles") + why);
+    }
     const auto factor = float(inputScale(units, &report, io_warnings));
     if (factor != 1.0f) {
       for (std::size_t v = first_vertex; v < out_soup->vertices.size(); ++v)

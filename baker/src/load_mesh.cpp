@@ -138,8 +138,9 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   if (!std::filesystem::is_regular_file(path, error))
     return BakeStatus::failure(BakeError::kIo, "'" + path + "': no such file");
   const BakeStatus guarded = ext == ".ply"   ? checkPlyHeader(path)
-                             : ext == ".obj" ? checkObjFaces(path)
+                             : ext == ".obj" ? checkObjLines(path)
                              : ext == ".off" ? checkOffHeader(path)
+                             : ext == ".stl" ? checkStlCoordinates(path)
                                              : BakeStatus{};
   if (!guarded.ok()) return guarded;
   TriangleSoup soup;

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +22,24 @@ bool isPlyType(const std::string& t) {
   static const char* const kTypes[] = {"char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
                                        "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
   return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
+}
+
+// A coordinate as the file writes it: a number read whole, finite as a float. OpenMesh's text readers
+// take "nan" or "1e99" without a word, and its STL reader keeps a NaN vertex (merged with another).
+bool finiteCoordinate(const std::string& word) {
+  char* end = nullptr;
+  const double value = std::strtod(word.c_str(), &end);
+  return end != word.c_str() && *end == '\0' && std::isfinite(float(value));
+}
+
+// Empty when the next three words are finite coordinates, else what is wrong with them.
+std::string coordinateProblem(std::istream& words) {
+  for (int axis = 0; axis < 3; ++axis) {
+    std::string word;
+    if (!(words >> word)) return "has fewer than 3 coordinates";
+    if (!finiteCoordinate(word)) return "has coordinate '" + word.substr(0, 24) + "', not a finite number";
+  }
+  return {};
 }
 
 bool isCount(const std::string& s) {
@@ -90,14 +110,19 @@ BakeStatus checkPlyHeader(const std::string& path) {
   return failure("has no end_header line in its first 1000 lines");
 }
 
-// Each face line must list as many indices as its valence says: OpenMesh reserved room for a valence
-// of 3 * 10^86 (read as a huge number) and tried to allocate 2 GB (found by fuzzing).
+// Each vertex line must start with three finite coordinates, and each face line must list as many
+// indices as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge
+// number) and tried to allocate 2 GB (found by fuzzing).
 template <class Failure>
-BakeStatus checkOffFaces(std::istream& in, std::uint64_t vertices, std::uint64_t faces, Failure failure) {
+BakeStatus checkOffBody(std::istream& in, std::uint64_t vertices, std::uint64_t faces, Failure failure) {
   std::string line;
-  for (std::uint64_t skipped = 0; skipped < vertices && std::getline(in, line);) {
+  for (std::uint64_t vertex = 0; vertex < vertices && std::getline(in, line);) {
     const std::size_t first = line.find_first_not_of(" \t\r");
-    if (first != std::string::npos && line[first] != '#') ++skipped; // blank and comment lines are not vertices
+    if (first == std::string::npos || line[first] == '#') continue; // blank and comment lines are not vertices
+    std::istringstream words(line.substr(0, line.find('#')));
+    const std::string problem = coordinateProblem(words);
+    if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
+    ++vertex;
   }
   for (std::uint64_t face = 0; face < faces && std::getline(in, line);) {
     std::istringstream words(line.substr(0, line.find('#')));
@@ -120,7 +145,7 @@ BakeStatus checkOffHeader(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const auto size = std::uint64_t(std::filesystem::file_size(path));
   auto failure = [&](const std::string& why) {
-    return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': OFF header " + why);
+    return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': OFF " + why);
   };
   std::string first_line;
   std::getline(in, first_line);
@@ -131,7 +156,7 @@ BakeStatus checkOffHeader(const std::string& path) {
   std::string keyword, binary;
   words >> keyword >> binary;
   if (!isOffVariant(keyword) || (!binary.empty() && binary != "BINARY" && !isCount(binary)))
-    return failure("'" + first_line.substr(0, 40) + "' is not OFF, COFF, NOFF, STOFF, 4OFF or nOFF");
+    return failure("header '" + first_line.substr(0, 40) + "' is not OFF, COFF, NOFF, STOFF, 4OFF or nOFF");
   // Binary OFF and the n-dimensional variant lay out what follows differently; leave them to the reader.
   if (binary == "BINARY" || keyword.find('n') != std::string::npos) return BakeStatus::success();
   std::vector<std::string> counts;
@@ -141,16 +166,43 @@ BakeStatus checkOffHeader(const std::string& path) {
     for (std::string word; counts.size() < 3 && numbers >> word;)
       counts.push_back(word);
   } while (counts.size() < 3 && std::getline(in, line));
-  if (counts.size() < 3) return failure("does not give vertex, face and edge counts");
+  if (counts.size() < 3) return failure("header does not give vertex, face and edge counts");
   for (std::size_t n = 0; n < 3; ++n) {
-    if (!isCount(counts[n])) return failure("count '" + counts[n] + "' is not a number");
+    if (!isCount(counts[n])) return failure("header count '" + counts[n] + "' is not a number");
   }
   // At least "0 0 0" and a line end per vertex and a digit and a line end per face.
   const std::uint64_t vertices = std::stoull(counts[0]), faces = std::stoull(counts[1]);
   if (vertices > size / 6 || faces > size / 2)
-    return failure("counts " + counts[0] + " " + counts[1] + " are impossible in a file of " + std::to_string(size) +
-                   " bytes");
-  return checkOffFaces(in, vertices, faces, failure);
+    return failure("header counts " + counts[0] + " " + counts[1] + " are impossible in a file of " +
+                   std::to_string(size) + " bytes");
+  return checkOffBody(in, vertices, faces, failure);
+}
+
+BakeStatus checkStlCoordinates(const std::string& path) {
+  const auto failure = [&](const std::string& where, const std::string& problem) {
+    return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': " + where + " " + problem);
+  };
+  std::ifstream in(path, std::ios::binary);
+  if (declaredStlFacets(path) >= 0) { // binary: 50-byte facets of a normal, three vertices, two bytes
+    in.seekg(84);
+    char facet[50];
+    for (std::uint64_t n = 0; in.read(facet, sizeof facet); ++n) {
+      float xyz[9];
+      std::memcpy(xyz, facet + 12, sizeof xyz);
+      for (float c : xyz)
+        if (!std::isfinite(c)) return failure("facet " + std::to_string(n), "has a NaN or infinite vertex coordinate");
+    }
+    return BakeStatus::success();
+  }
+  std::string line;
+  for (std::uint64_t number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword;
+    if (!(words >> keyword) || keyword != "vertex") continue;
+    const std::string problem = coordinateProblem(words);
+    if (!problem.empty()) return failure("line " + std::to_string(number) + ": vertex", problem);
+  }
+  return BakeStatus::success();
 }
 
 long long declaredStlFacets(const std::string& path) {
@@ -163,13 +215,19 @@ long long declaredStlFacets(const std::string& path) {
   return size == 84 + 50 * std::uint64_t(count) ? (long long)count : -1;
 }
 
-BakeStatus checkObjFaces(const std::string& path) {
+BakeStatus checkObjLines(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (std::uint64_t number = 1; std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::string keyword, vertex;
     words >> keyword;
+    if (keyword == "v") {
+      const std::string problem = coordinateProblem(words);
+      if (!problem.empty())
+        return BakeStatus::failure(BakeError::kInvalidInput,
+                                   "'" + path + "': line " + std::to_string(number) + ": vertex " + problem);
+    }
     if (keyword != "f") continue;
     while (words >> vertex) {
       if (vertex.front() == '/')

@@ -14,12 +14,18 @@ namespace baker {
 BakeStatus checkPlyHeader(const std::string& path);
 
 /// kInvalidInput unless an ASCII OFF file's vertex and face counts are plain numbers the file can
-/// hold. OpenMesh reads a negative count as a huge one and keeps going.
+/// hold (OpenMesh reads a negative count as a huge one and keeps going), each vertex starts with three
+/// finite coordinates and each face lists the vertices it claims.
 BakeStatus checkOffHeader(const std::string& path);
 
-/// kInvalidInput when an OBJ face lists a vertex without its vertex index ("f /1 2 3"): OpenMesh's
-/// OBJ reader asserts on that and aborts the process.
-BakeStatus checkObjFaces(const std::string& path);
+/// kInvalidInput when an OBJ face lists a vertex without its vertex index ("f /1 2 3": OpenMesh's OBJ
+/// reader asserts on that and aborts the process), or a vertex ("v") lacks three finite coordinates
+/// (the reader drops such a vertex, and every later face index then names the wrong one).
+BakeStatus checkObjLines(const std::string& path);
+
+/// kInvalidInput when an STL (binary or ASCII) has a vertex coordinate that is not a finite number:
+/// OpenMesh's reader keeps it, merged with another vertex, or drops its facet.
+BakeStatus checkStlCoordinates(const std::string& path);
 
 /// The facet count a binary STL declares, or -1 for ASCII or malformed files. OpenMesh's reader
 /// silently drops facets it cannot use (seen: a NaN coordinate), so loadMesh compares the two.

@@ -26,6 +26,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,6 +54,13 @@ MeshReport checkMesh(const TriangleSoup& soup);
 /// kInvalidInput when the mesh cannot be baked: no triangles, non-finite coordinates, or every
 /// triangle degenerate. Open and non-manifold meshes are fine (the sign is robust to them).
 BakeStatus requireBakeable(const MeshReport& report);
+
+/// A number as a message writes it (printf's %g): 1.5e-05, 3e+31, 0.0454545.
+inline std::string shortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
 
 /// Exact closest points on a soup's triangles through Embree's BVH (rtcPointQuery). Degenerate and
 /// non-finite triangles are left out. Queries are const and thread-safe.
@@ -175,13 +183,39 @@ BakeStatus blurNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t r
 BakeStatus potentialNormals(const std::vector<SurfaceVoxel>& surface, std::uint32_t radius, std::uint32_t rounds,
                             BandGrid* io, ProgressFn progress = nullptr, void* progress_user = nullptr);
 
-/// Writes the band as two OpenVDB grids, "distance" (a level set: FloatGrid, background = band,
-/// active = band voxels) and "normal" (Vec3SGrid), in the .dng's world placement, to `path` atomically.
-BakeStatus exportVdb(const BandGrid& band, const std::string& path);
+/// Writes the band as OpenVDB grids, "distance" (a level set: FloatGrid, background = band, active =
+/// band voxels), "normal" (Vec3SGrid) and the rest export_vdb.cpp names, in the .dng's world
+/// placement, to the file `temp` (a StagedOutputs temporary); `path` is what messages call it.
+BakeStatus exportVdb(const BandGrid& band, const std::string& temp, const std::string& path);
 
-/// Writes `bytes` to `path` through a temporary file in the same folder, fsync and rename: readers
-/// see the old file or the new one, never a partial one. The temporary is removed on failure.
-BakeStatus writeFileAtomically(const std::string& path, const std::vector<std::uint8_t>& bytes);
+/// Refuses, before anything is read, outputs that would destroy something: an output that is an input
+/// (kBadOption), the .dng and the export at one path (kBadOption), an existing output that is not a
+/// regular file, such as a directory or /dev/null, which a rename would replace (kIo).
+BakeStatus checkOutputPaths(const std::vector<std::string>& inputs, const BakeOutputs& outputs);
+
+/// A bake's output files, each written in full to a temporary beside its path and flushed, then put in
+/// place together by commit() (renames): a bake that fails before commit leaves every output path as
+/// it was, readers see old files or new ones, never partial ones. Temporaries not committed are removed
+/// on destruction.
+class StagedOutputs {
+public:
+  StagedOutputs() = default;
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+  ~StagedOutputs();
+  /// A new, empty temporary beside `path`, for a writer that opens files by name (OpenVDB's).
+  BakeStatus reserve(const std::string& path, std::string* out_temp);
+  /// `bytes` to a new temporary beside `path`, flushed to disk.
+  BakeStatus write(const std::string& path, const std::vector<std::uint8_t>& bytes);
+  /// Renames every temporary over its path, in the order they were added.
+  BakeStatus commit();
+
+private:
+  struct Entry {
+    std::string temp, path;
+  };
+  std::vector<Entry> entries_;
+};
 
 } // namespace baker
 } // namespace dng

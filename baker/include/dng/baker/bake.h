@@ -91,6 +91,8 @@ inline constexpr std::uint32_t kMinResolution = 8;
 /// The baker's own cap on voxels per axis (memory and time), far below the format's limit
 /// (format::kMaxAxisVoxels).
 inline constexpr std::uint32_t kMaxBakeAxisVoxels = 2048;
+/// The smallest voxel OpenVDB's grids take (its maps refuse a voxel whose volume is below 3e-15).
+inline constexpr float kMinVoxelSize = 1.5e-5f;
 inline constexpr std::uint32_t kMaxBlurRadius = 8;
 inline constexpr std::uint32_t kMaxBlurRounds = 32;
 
