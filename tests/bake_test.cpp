@@ -668,6 +668,17 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   // OpenMesh's OBJ reader cannot even parse "nan" (the vertex is dropped, and later face indices name
   // the wrong vertices); binary STL carries raw floats. The guards read the coordinates first.
   std::ofstream(path("nan_text.obj")) << "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n";
+  std::ofstream(path("words.off")) << "these are not the vertices you are looking for\n";
+  fs::create_directory(path("folder.obj"));
+  {
+    std::ofstream cut(path("cut.stl"), std::ios::binary); // a binary STL that lost its last facet
+    const char header[80] = "binary STL, truncated";
+    const std::uint32_t count = 2;
+    const char facet[50] = {};
+    cut.write(header, 80);
+    cut.write(reinterpret_cast<const char*>(&count), 4);
+    cut.write(facet, sizeof facet);
+  }
   std::ofstream(path("huge.off")) << "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n";
   std::ofstream(path("nan_text.stl")) << "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                                          "vertex 0 nan 0\nendloop\nendfacet\nendsolid s\n";
@@ -706,6 +717,9 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("nan_text.stl"), 3, "line 6: vertex has coordinate 'nan', not a finite number"},
       {path("nan_text.obj"), 3, "line 3: vertex has coordinate 'nan', not a finite number"},
       {path("huge.off"), 3, "OFF vertex 1 has coordinate '1e39', not a finite number"},
+      {path("words.off"), 3, "OFF file has no OFF keyword"},
+      {path("cut.stl"), 3, "binary STL declares 2 facets, 184 bytes, but has 134: truncated"},
+      {path("folder.obj"), 2, "folder.obj' is a directory, not a mesh file"},
       // One bad or empty input among several: the union used to hide it (a NaN vertex in a second OFF
       // baked 84 million garbage triangles).
       {path("good.obj") + " " + path("huge.off"), 3, "not a finite number"},

@@ -191,8 +191,14 @@ TEST_F(MeshTest, FilesThatCannotBeReadSayWhy) {
   s = loadMesh(write("garbage.off", "this is not an OFF file at all\n"), &soup);
   EXPECT_EQ(s.code, BakeError::kInvalidInput) << s.message;
   EXPECT_NE(s.message.find("is not OFF"), std::string::npos) << s.message;
+  // No OFF keyword at all is invalid input too, as other formats' garbage is (OpenMesh refused it as
+  // if it could not read the file, an I/O error).
   s = loadMesh(write("unrelated.off", "nothing to see here\n"), &soup);
-  EXPECT_EQ(s.code, BakeError::kIo) << s.message; // no OFF magic at all: OpenMesh refuses it
+  EXPECT_EQ(s.code, BakeError::kInvalidInput) << s.message;
+  EXPECT_NE(s.message.find("no OFF keyword"), std::string::npos) << s.message;
+  s = loadMesh(write("empty.off", ""), &soup);
+  EXPECT_EQ(s.code, BakeError::kInvalidInput) << s.message;
+  EXPECT_NE(s.message.find("OFF file is empty"), std::string::npos) << s.message;
 }
 
 TEST_F(MeshTest, FaceIndicesOutOfRangeAreSkippedAndCounted) {

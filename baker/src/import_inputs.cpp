@@ -5,8 +5,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace dng {
 namespace baker {
@@ -44,10 +49,28 @@ double inputScale(const UnitOptions& units, ImportReport* report, std::vector<st
   return report->scale;
 }
 
+// An input path must name a regular file this process can read: said here, with the system's reason,
+// before any reader guesses (a folder named by its extension, a file without read permission, a FIFO
+// a reader would wait on).
+BakeStatus checkReadable(const std::string& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) return BakeStatus::failure(BakeError::kIo, "'" + path + "': no such file");
+  if (std::filesystem::is_directory(status))
+    return BakeStatus::failure(BakeError::kIo, "'" + path + "' is a directory, not a mesh file");
+  if (!std::filesystem::is_regular_file(status))
+    return BakeStatus::failure(BakeError::kIo, "'" + path + "' is not a regular file (a device, pipe or socket)");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return BakeStatus::failure(BakeError::kIo, "'" + path + "': cannot open: " + std::strerror(errno));
+  ::close(fd);
+  return BakeStatus::success();
+}
+
 BakeStatus importOne(const std::string& path, const ImportOptions& options, TriangleSoup* io_soup,
                      ImportReport* out_report) {
   out_report->path = path;
   out_report->format = lowerExtension(path);
+  if (BakeStatus readable = checkReadable(path); !readable.ok()) return readable;
   const ImportFn importer = importerFor(path);
   if (importer == nullptr)
     return BakeStatus::failure(BakeError::kUnsupported, "'" + path + "': unknown mesh format '." + out_report->format +

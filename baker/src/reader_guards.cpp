@@ -149,9 +149,11 @@ BakeStatus checkOffHeader(const std::string& path) {
   };
   std::string first_line;
   std::getline(in, first_line);
-  // No "OFF" at all: OpenMesh's reader refuses it by itself (an I/O error, as for other unreadable
-  // files). Anything else must be one of the variants [ST][C][N][4][n]OFF [BINARY], the counts after it.
-  if (first_line.find("OFF") == std::string::npos) return BakeStatus::success();
+  // No "OFF" at all: not an OFF file (OpenMesh's reader refused it as if it could not read it, an I/O
+  // error, where the other formats' garbage is invalid input). Anything else must be one of the
+  // variants [ST][C][N][4][n]OFF [BINARY], the counts after it.
+  if (first_line.find("OFF") == std::string::npos)
+    return failure(size == 0 ? "file is empty" : "file has no OFF keyword on its first line");
   std::istringstream words(first_line);
   std::string keyword, binary;
   words >> keyword >> binary;
@@ -194,6 +196,18 @@ BakeStatus checkStlCoordinates(const std::string& path) {
     }
     return BakeStatus::success();
   }
+  char start[84] = {};
+  in.read(start, sizeof start);
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  if (std::strncmp(start, "solid", 5) != 0 && size >= 84) { // binary, but not 84 + 50 bytes per facet
+    std::uint32_t count;
+    std::memcpy(&count, start + 80, 4);
+    return failure("binary STL", "declares " + std::to_string(count) + " facets, " +
+                                     std::to_string(84 + 50 * std::uint64_t(count)) + " bytes, but has " +
+                                     std::to_string(size) + ": truncated, or not an STL");
+  }
+  in.clear();
+  in.seekg(0);
   std::string line;
   for (std::uint64_t number = 1; std::getline(in, line); ++number) {
     std::istringstream words(line);
