@@ -201,6 +201,15 @@ static void test_stepping(const dng_field* box) {
   CHECK(outside == kCount);
   CHECK(dng_scene_step(scene, &particles, -1.0f, message, sizeof message) == DNG_INVALID_ARGUMENT);
   CHECK(strstr(message, "dt") != NULL);
+  { /* a body whose velocity is not a number moves no particle, with or without the broadphase */
+    const float drift[3] = {NAN, 0.0f, 0.0f}, still[3] = {0.0f, 0.0f, 0.0f};
+    const float before = px[0];
+    CHECK(dng_scene_set_velocity(scene, 0, drift, still) == DNG_OK);
+    CHECK(dng_scene_prepare_step(scene, 1.0f / 60.0f, message, sizeof message) == DNG_INVALID_ARGUMENT);
+    CHECK(dng_scene_step(scene, &particles, 1.0f / 60.0f, message, sizeof message) == DNG_INVALID_ARGUMENT);
+    CHECK(strstr(message, "finite motion") != NULL);
+    CHECK(px[0] == before);
+  }
   dng_scene_destroy(scene);
 }
 
