@@ -793,6 +793,8 @@ TEST_F(BakeTest, OutputsThatWouldDestroySomethingAreRefused) {
   run = runDngbake(path("box.obj") + " --resolution 16 -o " + path("out.dng") + " --export-vdb " + path("old.vdb"));
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(testing::readFile(path("old.vdb")), "previous export");
+  for (const char* name : {"out.dng", "old.vdb"}) // readable by others, as a plain create makes them
+    EXPECT_EQ(fs::status(path(name)).permissions() & fs::perms::others_read, fs::perms::others_read) << name;
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
 }

@@ -66,8 +66,13 @@ BakeStatus StagedOutputs::reserve(const std::string& path, std::string* out_temp
   if (fd < 0)
     return BakeStatus::failure(BakeError::kIo,
                                "cannot create a file in '" + folder.string() + "': " + std::strerror(errno));
+  entries_.push_back({temp, path}); // removed on destruction unless committed
+  // mkstemp makes the file private (0600); outputs are shared, as a plain create would make them.
+  const bool readable = ::fchmod(fd, 0644) == 0;
+  const int error = errno;
   ::close(fd);
-  entries_.push_back({temp, path});
+  if (!readable)
+    return BakeStatus::failure(BakeError::kIo, "cannot set the permissions of '" + temp + "': " + std::strerror(error));
   *out_temp = temp;
   return BakeStatus::success();
 }
@@ -89,7 +94,7 @@ BakeStatus StagedOutputs::write(const std::string& path, const std::vector<std::
     if (n <= 0) return fail("cannot write");
     written += std::size_t(n);
   }
-  if (::fchmod(fd, 0644) != 0 || ::fsync(fd) != 0) return fail("cannot flush");
+  if (::fsync(fd) != 0) return fail("cannot flush");
   if (::close(fd) != 0)
     return BakeStatus::failure(BakeError::kIo, "cannot close '" + path + "': " + std::strerror(errno));
   return BakeStatus::success();
