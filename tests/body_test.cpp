@@ -2,6 +2,7 @@
 #include "analytic_fields.h"
 #include "dng/body.h"
 #include "dng/format/writer.h"
+#include "dng/particles.h"
 #include "sample_files.h"
 
 #include <gtest/gtest.h>
@@ -115,10 +116,15 @@ TEST_F(BodyTest, ScalesFarFromOneKeepAnOrthonormalRotationOrAreRefused) {
 
 // A band too thin for the walk's balls (its guaranteed reach under the margin) cannot carry a body:
 // every walk's ball would have a negative radius, and particles froze in the field's box.
+format::EncodeResult sphereFile(float band_voxels) {
+  return format::encodeDense(
+      analytic::sampleField(analytic::cubeGrid({-4, -4, -4}, 0.25f, 32, band_voxels), analytic::sphereField({}, 2.0f)),
+      "");
+}
+
 TEST_F(BodyTest, AFieldWhoseBandIsTooThinIsRefused) {
   for (const float band : {0.5f, 0.9f, 1.0f}) {
-    const format::EncodeResult file = format::encodeDense(
-        analytic::sampleField(analytic::cubeGrid({-4, -4, -4}, 0.25f, 32, band), analytic::sphereField({}, 2.0f)), "");
+    const format::EncodeResult file = sphereFile(band);
     ASSERT_TRUE(file.ok()) << file.error;
     View view;
     ASSERT_EQ(View::open(file.bytes.data(), file.bytes.size(), &view), Status::kOk);
@@ -133,6 +139,23 @@ TEST_F(BodyTest, AFieldWhoseBandIsTooThinIsRefused) {
       EXPECT_EQ(status, Status::kOk) << band << ": " << diag.message; // dngbake's thinnest band
     }
   }
+  // A View opened again in place on such a file: the step refuses the body it now carries, and moves
+  // no particle (the body was made when the band was thick enough).
+  const format::EncodeResult thick = sphereFile(3.0f), thin = sphereFile(0.5f);
+  View view;
+  ASSERT_EQ(View::open(thick.bytes.data(), thick.bytes.size(), &view), Status::kOk);
+  Body body;
+  ASSERT_EQ(Body::create(&view, Material(), &body), Status::kOk);
+  ASSERT_EQ(View::open(thin.bytes.data(), thin.bytes.size(), &view), Status::kOk);
+  float x = 3.0f, y = 0.0f, z = 0.0f, vx = -1.0f, vy = 0.0f, vz = 0.0f;
+  ParticleSpan one;
+  one.position_x = &x, one.position_y = &y, one.position_z = &z;
+  one.velocity_x = &vx, one.velocity_y = &vy, one.velocity_z = &vz;
+  one.count = 1;
+  Diagnostic diag;
+  EXPECT_EQ(stepParticles(one, 0.1f, &body, 1, &diag), Status::kInvalidArgument);
+  EXPECT_NE(std::string(diag.message).find("too thin"), std::string::npos) << diag.message;
+  EXPECT_EQ(x, 3.0f);
 }
 
 TEST_F(BodyTest, RejectsInvalidFieldsAndMaterials) {

@@ -257,6 +257,9 @@ Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_
     return writeDiagnostic(diag, Status::kInvalidArgument, "bodies is null but body_count is %zu", body_count);
   for (std::size_t b = 0; b < body_count; ++b) {
     if (!bodies[b].valid()) return writeDiagnostic(diag, Status::kInvalidArgument, "body %zu is not valid", b);
+    if (!walkable(*bodies[b].field())) // Body::create refuses such fields; its View may have been opened again
+      return writeDiagnostic(diag, Status::kInvalidArgument, "body %zu: its field's band is too thin to step through",
+                             b);
     const Status motion = checkMotion(bodies[b], b, dt, diag);
     if (motion != Status::kOk) return motion;
   }
