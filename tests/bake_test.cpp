@@ -679,6 +679,18 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
     cut.write(reinterpret_cast<const char*>(&count), 4);
     cut.write(facet, sizeof facet);
   }
+  // Upper-case ASCII STL (OpenMesh reads it), and a binary one cut short whose header says "solid".
+  std::ofstream(path("upper.stl")) << "SOLID s\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\n"
+                                      "VERTEX 0 nan 0\nENDLOOP\nENDFACET\nENDSOLID s\n";
+  {
+    std::ofstream cut(path("solid_cut.stl"), std::ios::binary);
+    const char header[80] = "solid exported as binary";
+    const std::uint32_t count = 3;
+    const char facet[50] = {};
+    cut.write(header, 80);
+    cut.write(reinterpret_cast<const char*>(&count), 4);
+    cut.write(facet, sizeof facet);
+  }
   std::ofstream(path("huge.off")) << "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n";
   std::ofstream(path("nan_text.stl")) << "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                                          "vertex 0 nan 0\nendloop\nendfacet\nendsolid s\n";
@@ -718,6 +730,8 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("nan_text.obj"), 3, "line 3: vertex has coordinate 'nan', not a finite number"},
       {path("huge.off"), 3, "OFF vertex 1 has coordinate '1e39', not a finite number"},
       {path("words.off"), 3, "OFF file has no OFF keyword"},
+      {path("upper.stl"), 3, "line 6: vertex has coordinate 'nan', not a finite number"},
+      {path("solid_cut.stl"), 3, "binary STL declares 3 facets, 234 bytes, but has 134: truncated"},
       {path("cut.stl"), 3, "binary STL declares 2 facets, 184 bytes, but has 134: truncated"},
       {path("folder.obj"), 2, "folder.obj' is a directory, not a mesh file"},
       // One bad or empty input among several: the union used to hide it (a NaN vertex in a second OFF
@@ -748,6 +762,7 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("absent.obj") + " --scale 0", 1, "--scale: must be a finite number > 0, got '0'"},
       {path("absent.obj") + " --scene -1", 1, "--scene: must be a whole number >= 0, got '-1'"},
       {path("absent.obj") + " --voxel-size 0", 1, "--voxel-size: must be a finite number > 0"},
+      {path("absent.obj") + " --voxel-size 1e-46", 1, "--voxel-size: must be a finite number > 0"}, // 0 as a float
       // Grids the format or OpenVDB cannot hold: refused when placed, not after the whole bake (exit 4).
       {path("good.obj") + " --scale 1e-6", 1, "below OpenVDB's smallest (1.5e-05)"},
       {path("good.obj") + " --scale 2e18", 1, "beyond +-1e18, the format's range"},

@@ -437,6 +437,12 @@ TEST_F(ImportTest, JsonReportsEveryInputAndNode) {
   const nlohmann::json l = nlohmann::json::parse(left.output);
   EXPECT_EQ(l["inputs"].size(), 2u);
   EXPECT_EQ(l["mesh"]["triangles"], 24); // the left cube and the OFF file's cube
+  // Mesh files are taken whole, --node or not: an empty one fails the bake as it would alone.
+  std::ofstream(path("nothing.off")) << "OFF\n0 0 0\n";
+  const testing::ProgramRun empty = runDngbake("--node left " + path("cubes.glb") + " " + path("nothing.off") + " -o " +
+                                               path("empty.dng") + " --resolution 24");
+  EXPECT_EQ(empty.exit_code, 3) << empty.output;
+  EXPECT_NE(empty.output.find("nothing.off': the mesh has no faces"), std::string::npos) << empty.output;
   // dngdump shows how the sources' units became the field's.
   const testing::ProgramRun dump = testing::runProgram(std::string(DNG_DNGDUMP_PATH) + " " + path("out.dng"));
   ASSERT_EQ(dump.exit_code, 0) << dump.output;

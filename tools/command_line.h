@@ -39,13 +39,14 @@ inline CLI::Validator wholeAtLeastZero() {
       "INDEX");
 }
 
-/// A number > 0 that is finite as a float, refused in one line.
+/// A number > 0 that is a normal float (what the option stores: 1e-46 would be 0, 1e39 infinity),
+/// refused in one line.
 inline CLI::Validator finitePositive() {
   return CLI::Validator(
       [](std::string& text) {
         char* end = nullptr;
         const double value = std::strtod(text.c_str(), &end);
-        return end != text.c_str() && *end == '\0' && value > 0.0 && std::isfinite(float(value))
+        return end != text.c_str() && *end == '\0' && value > 0.0 && std::isnormal(float(value))
                    ? std::string()
                    : "must be a finite number > 0, got '" + text + "'";
       },

@@ -140,12 +140,13 @@ BakeStatus importInputs(const std::vector<std::string>& paths, const ImportOptio
     if (!status.ok()) return status;
     // A lone empty mesh file is left to requireBakeable ("no faces", with the reader's messages); an
     // empty scene, or one empty input among several (the union would hide it), is said here.
-    if (options.nodes.empty() && report.triangles == 0 && (report.importer != "openmesh" || paths.size() > 1)) {
+    // Mesh files are taken whole, --node or not; scenes may hold none of the nodes asked for.
+    const bool mesh_file = report.importer == "openmesh";
+    if (report.triangles == 0 && (mesh_file ? paths.size() > 1 : options.nodes.empty())) {
       const std::string why = report.messages.empty() ? "" : " (" + report.messages.front() + ")";
       return BakeStatus::failure(
           BakeError::kInvalidInput,
-          "'" + paths[i] +
-              "': " + (report.importer == "openmesh" ? "the mesh has no faces" : "the scene holds no triangles") + why);
+          "'" + paths[i] + "': " + (mesh_file ? "the mesh has no faces" : "the scene holds no triangles") + why);
     }
     const auto factor = float(inputScale(units, &report, io_warnings));
     if (factor != 1.0f) {

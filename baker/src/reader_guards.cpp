@@ -24,22 +24,53 @@ bool isPlyType(const std::string& t) {
   return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
 }
 
-// A coordinate as the file writes it: a number read whole, finite as a float. OpenMesh's text readers
-// take "nan" or "1e99" without a word, and its STL reader keeps a NaN vertex (merged with another).
-bool finiteCoordinate(const std::string& word) {
-  char* end = nullptr;
-  const double value = std::strtod(word.c_str(), &end);
-  return end != word.c_str() && *end == '\0' && std::isfinite(float(value));
+bool blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+const char* skipBlanks(const char* at) {
+  while (blank(*at))
+    ++at;
+  return at;
 }
 
-// Empty when the next three words are finite coordinates, else what is wrong with them.
-std::string coordinateProblem(std::istream& words) {
+// A text line's first word, lower-cased (STL keywords may be upper case), and where the rest begins.
+// In place: the guards read every line of files of millions of lines before OpenMesh reads them again.
+std::string firstWord(const std::string& line, const char** out_rest) {
+  const char* at = skipBlanks(line.c_str());
+  std::string word;
+  for (; *at != '\0' && !blank(*at); ++at)
+    word += char(std::tolower(static_cast<unsigned char>(*at)));
+  *out_rest = at;
+  return word;
+}
+
+// Empty when the text at `at` starts with three coordinates, numbers read whole and finite as floats;
+// else what is wrong with them. OpenMesh's text readers take "nan" or "1e99" without a word, and its
+// STL reader keeps a NaN vertex (merged with another).
+std::string coordinateProblem(const char* at) {
   for (int axis = 0; axis < 3; ++axis) {
-    std::string word;
-    if (!(words >> word)) return "has fewer than 3 coordinates";
-    if (!finiteCoordinate(word)) return "has coordinate '" + word.substr(0, 24) + "', not a finite number";
+    at = skipBlanks(at);
+    if (*at == '\0' || *at == '#') return "has fewer than 3 coordinates";
+    char* end = nullptr;
+    const double value = std::strtod(at, &end);
+    if (end == at || !(*end == '\0' || *end == '#' || blank(*end)) || !std::isfinite(float(value))) {
+      const char* stop = at;
+      while (*stop != '\0' && !blank(*stop) && stop - at < 24)
+        ++stop;
+      return "has coordinate '" + std::string(at, stop) + "', not a finite number";
+    }
+    at = end;
   }
   return {};
+}
+
+// Whether the start of a file is text: no control bytes but tabs and line ends (a binary STL's header
+// may start with "solid" too, as some exporters write it).
+bool looksLikeText(const char* bytes, std::size_t count) {
+  for (std::size_t n = 0; n < count; ++n) {
+    const auto c = static_cast<unsigned char>(bytes[n]);
+    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r') return false;
+  }
+  return true;
 }
 
 bool isCount(const std::string& s) {
@@ -119,8 +150,7 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t vertices, std::uint64_t 
   for (std::uint64_t vertex = 0; vertex < vertices && std::getline(in, line);) {
     const std::size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue; // blank and comment lines are not vertices
-    std::istringstream words(line.substr(0, line.find('#')));
-    const std::string problem = coordinateProblem(words);
+    const std::string problem = coordinateProblem(line.c_str() + first);
     if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
     ++vertex;
   }
@@ -196,10 +226,10 @@ BakeStatus checkStlCoordinates(const std::string& path) {
     }
     return BakeStatus::success();
   }
-  char start[84] = {};
+  char start[512] = {};
   in.read(start, sizeof start);
   const auto size = std::uint64_t(std::filesystem::file_size(path));
-  if (std::strncmp(start, "solid", 5) != 0 && size >= 84) { // binary, but not 84 + 50 bytes per facet
+  if (!looksLikeText(start, std::size_t(in.gcount())) && size >= 84) { // binary, not 84 + 50 bytes per facet
     std::uint32_t count;
     std::memcpy(&count, start + 80, 4);
     return failure("binary STL", "declares " + std::to_string(count) + " facets, " +
@@ -210,10 +240,9 @@ BakeStatus checkStlCoordinates(const std::string& path) {
   in.seekg(0);
   std::string line;
   for (std::uint64_t number = 1; std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::string keyword;
-    if (!(words >> keyword) || keyword != "vertex") continue;
-    const std::string problem = coordinateProblem(words);
+    const char* rest = nullptr;
+    if (firstWord(line, &rest) != "vertex") continue;
+    const std::string problem = coordinateProblem(rest);
     if (!problem.empty()) return failure("line " + std::to_string(number) + ": vertex", problem);
   }
   return BakeStatus::success();
@@ -233,17 +262,17 @@ BakeStatus checkObjLines(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (std::uint64_t number = 1; std::getline(in, line); ++number) {
-    std::istringstream words(line);
-    std::string keyword, vertex;
-    words >> keyword;
+    const char* rest = nullptr;
+    const std::string keyword = firstWord(line, &rest);
     if (keyword == "v") {
-      const std::string problem = coordinateProblem(words);
+      const std::string problem = coordinateProblem(rest);
       if (!problem.empty())
         return BakeStatus::failure(BakeError::kInvalidInput,
                                    "'" + path + "': line " + std::to_string(number) + ": vertex " + problem);
     }
     if (keyword != "f") continue;
-    while (words >> vertex) {
+    std::istringstream words(rest);
+    for (std::string vertex; words >> vertex;) {
       if (vertex.front() == '/')
         return BakeStatus::failure(BakeError::kInvalidInput,
                                    "'" + path + "': line " + std::to_string(number) + ": face vertex '" + vertex +

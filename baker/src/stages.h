@@ -193,10 +193,11 @@ BakeStatus exportVdb(const BandGrid& band, const std::string& temp, const std::s
 /// regular file, such as a directory or /dev/null, which a rename would replace (kIo).
 BakeStatus checkOutputPaths(const std::vector<std::string>& inputs, const BakeOutputs& outputs);
 
-/// A bake's output files, each written in full to a temporary beside its path and flushed, then put in
-/// place together by commit() (renames): a bake that fails before commit leaves every output path as
-/// it was, readers see old files or new ones, never partial ones. Temporaries not committed are removed
-/// on destruction.
+/// A bake's output files, each written in full to a temporary beside its path, then flushed to disk and
+/// put in place together by commit() (renames): a bake that fails before commit leaves every output
+/// path as it was, and readers see old files or new ones, never partial ones. Temporaries not
+/// committed are removed on destruction. Temporaries get the mode a plain create would (0666 less the
+/// umask).
 class StagedOutputs {
 public:
   StagedOutputs() = default;
@@ -205,9 +206,10 @@ public:
   ~StagedOutputs();
   /// A new, empty temporary beside `path`, for a writer that opens files by name (OpenVDB's).
   BakeStatus reserve(const std::string& path, std::string* out_temp);
-  /// `bytes` to a new temporary beside `path`, flushed to disk.
+  /// `bytes` to a new temporary beside `path`.
   BakeStatus write(const std::string& path, const std::vector<std::uint8_t>& bytes);
-  /// Renames every temporary over its path, in the order they were added.
+  /// Flushes every temporary to disk, then renames each over its path in the order they were added. A
+  /// rename that fails after an earlier one succeeded leaves that earlier output replaced.
   BakeStatus commit();
 
 private:

@@ -2,6 +2,7 @@
 // output path, nor damages a file already there, nor writes over its own input.
 #include "stages.h"
 
+#include <atomic>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -61,20 +62,24 @@ StagedOutputs::~StagedOutputs() {
 BakeStatus StagedOutputs::reserve(const std::string& path, std::string* out_temp) {
   const fs::path target(path);
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string temp = (folder / ("." + target.filename().string() + ".tmp.XXXXXX")).string();
-  const int fd = ::mkstemp(temp.data());
-  if (fd < 0)
-    return BakeStatus::failure(BakeError::kIo,
-                               "cannot create a file in '" + folder.string() + "': " + std::strerror(errno));
-  entries_.push_back({temp, path}); // removed on destruction unless committed
-  // mkstemp makes the file private (0600); outputs are shared, as a plain create would make them.
-  const bool readable = ::fchmod(fd, 0644) == 0;
-  const int error = errno;
-  ::close(fd);
-  if (!readable)
-    return BakeStatus::failure(BakeError::kIo, "cannot set the permissions of '" + temp + "': " + std::strerror(error));
-  *out_temp = temp;
-  return BakeStatus::success();
+  // A new name of our own, created exclusively with the mode a plain create gets (0666 less the
+  // umask): mkstemp's files are private, and the outputs are meant to be shared as usual.
+  static std::atomic<unsigned> counter{0};
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string temp = (folder / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) + "." +
+                                        std::to_string(counter++)))
+                                 .string();
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno == EEXIST) continue;
+    if (fd < 0)
+      return BakeStatus::failure(BakeError::kIo,
+                                 "cannot create a file in '" + folder.string() + "': " + std::strerror(errno));
+    ::close(fd);
+    entries_.push_back({temp, path}); // removed on destruction unless committed
+    *out_temp = temp;
+    return BakeStatus::success();
+  }
+  return BakeStatus::failure(BakeError::kIo, "cannot find a free temporary name in '" + folder.string() + "'");
 }
 
 BakeStatus StagedOutputs::write(const std::string& path, const std::vector<std::uint8_t>& bytes) {
@@ -94,19 +99,26 @@ BakeStatus StagedOutputs::write(const std::string& path, const std::vector<std::
     if (n <= 0) return fail("cannot write");
     written += std::size_t(n);
   }
-  if (::fsync(fd) != 0) return fail("cannot flush");
   if (::close(fd) != 0)
     return BakeStatus::failure(BakeError::kIo, "cannot close '" + path + "': " + std::strerror(errno));
   return BakeStatus::success();
 }
 
 BakeStatus StagedOutputs::commit() {
+  // Every temporary on disk first (OpenVDB's writer does not flush its file): a rename must never put
+  // a file in place whose bytes a crash could still lose.
+  for (const Entry& e : entries_) {
+    const int fd = ::open(e.temp.c_str(), O_RDONLY | O_CLOEXEC);
+    const bool flushed = fd >= 0 && ::fsync(fd) == 0;
+    const std::string reason = std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    if (!flushed) return BakeStatus::failure(BakeError::kIo, "cannot flush '" + e.path + "': " + reason);
+  }
   for (std::size_t n = 0; n < entries_.size(); ++n) {
-    const Entry& e = entries_[n];
-    if (::rename(e.temp.c_str(), e.path.c_str()) != 0) {
-      const std::string reason = std::strerror(errno);
+    if (::rename(entries_[n].temp.c_str(), entries_[n].path.c_str()) != 0) {
+      const std::string message = "cannot replace '" + entries_[n].path + "': " + std::strerror(errno);
       entries_.erase(entries_.begin(), entries_.begin() + std::ptrdiff_t(n)); // the rest are removed
-      return BakeStatus::failure(BakeError::kIo, "cannot replace '" + e.path + "': " + reason);
+      return BakeStatus::failure(BakeError::kIo, message);
     }
   }
   entries_.clear();

@@ -250,7 +250,10 @@ void move(const Body* bodies, const NearBodies& near, const BodyMotions& motions
   settle(bodies, near, motions, start, end, stop, io, io_touch);
 }
 
-Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_t body_count, Diagnostic* diag) {
+// `indexed`: the call goes through an index, whose rebuild checked the bodies' motions and whose
+// matches() finds them unchanged; per call, that saves a pose turned by each body's spin.
+Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_t body_count, bool indexed,
+                 Diagnostic* diag) {
   if (!(dt > 0.0f) || !std::isfinite(dt))
     return writeDiagnostic(diag, Status::kInvalidArgument, "dt must be finite and > 0, got %g", double(dt));
   if (body_count > 0 && bodies == nullptr)
@@ -260,7 +263,7 @@ Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_
     if (!walkable(*bodies[b].field())) // Body::create refuses such fields; its View may have been opened again
       return writeDiagnostic(diag, Status::kInvalidArgument, "body %zu: its field's band is too thin to step through",
                              b);
-    const Status motion = checkMotion(bodies[b], b, dt, diag);
+    const Status motion = indexed ? Status::kOk : checkMotion(bodies[b], b, dt, diag);
     if (motion != Status::kOk) return motion;
   }
   if (s.count == 0) return Status::kOk;
@@ -451,22 +454,23 @@ StepBody prepareStep(const Body& body, const BodyMotion& motion) {
 
 bool fieldUnchanged(const StepBody& prepared, const Body& body) {
   const View& field = *body.field();
-  const StepBody now = prepareStep(body, {});
-  return prepared.field == &field && prepared.dense == now.dense && prepared.band_world == now.band_world &&
-         prepared.margin == now.margin && prepared.reach == now.reach && prepared.roomy == now.roomy &&
-         prepared.proof_level == now.proof_level;
+  const GridInfo& g = field.grid();
+  // What prepareStep takes from the field: the encoding, and numbers of the band and the voxel size.
+  return prepared.field == &field && prepared.dense == (g.encoding == format::Encoding::kDense) &&
+         prepared.band_world == g.band * body.scale() && prepared.margin == kMarginVoxels * g.voxel_size &&
+         prepared.reach == field.guaranteedReach();
 }
 
 Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
                      Diagnostic* out_diag) {
-  const Status status = checkStep(particles, dt, bodies, body_count, out_diag);
+  const Status status = checkStep(particles, dt, bodies, body_count, false, out_diag);
   if (status != Status::kOk) return status;
   return step(particles, dt, bodies, body_count, nullptr);
 }
 
 Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,
                      const BodyIndex& index, Diagnostic* out_diag) {
-  const Status status = checkStep(particles, dt, bodies, body_count, out_diag);
+  const Status status = checkStep(particles, dt, bodies, body_count, true, out_diag);
   if (status != Status::kOk) return status;
   if (!index.built()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "the body index is not built");
   const BodyIndex::Impl& built = *index.impl_;

@@ -48,7 +48,9 @@ struct Material {
 };
 
 /// A placed field. Plain value type: copy it freely. Keeps a pointer to the View, which must outlive
-/// every Body made from it; one View may serve any number of bodies.
+/// every Body made from it; one View may serve any number of bodies. A View opened again on another
+/// file is another field: create its bodies again (a body keeps its box from the old grid; the step
+/// refuses what it cannot walk, but cannot know the box is stale).
 class Body {
 public:
   Body() = default;
