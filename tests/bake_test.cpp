@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -662,6 +663,18 @@ ProgramRun runDngbake(const std::string& args) {
   return testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + args + " 2>&1");
 }
 
+// A binary STL of one facet (normal, three vertices) that declares `declared` facets.
+void writeBinaryStl(const std::string& file, const char* header_text, std::uint32_t declared, const float facet[12]) {
+  std::ofstream stl(file, std::ios::binary);
+  char header[80] = {};
+  std::strncpy(header, header_text, sizeof header - 1);
+  const std::uint16_t attributes = 0;
+  stl.write(header, sizeof header);
+  stl.write(reinterpret_cast<const char*>(&declared), 4);
+  stl.write(reinterpret_cast<const char*>(facet), 12 * sizeof(float));
+  stl.write(reinterpret_cast<const char*>(&attributes), 2);
+}
+
 TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("good.obj"));
   std::ofstream(path("empty.obj")) << "";
@@ -670,41 +683,17 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   std::ofstream(path("nan_text.obj")) << "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n";
   std::ofstream(path("words.off")) << "these are not the vertices you are looking for\n";
   fs::create_directory(path("folder.obj"));
-  {
-    std::ofstream cut(path("cut.stl"), std::ios::binary); // a binary STL that lost its last facet
-    const char header[80] = "binary STL, truncated";
-    const std::uint32_t count = 2;
-    const char facet[50] = {};
-    cut.write(header, 80);
-    cut.write(reinterpret_cast<const char*>(&count), 4);
-    cut.write(facet, sizeof facet);
-  }
+  const float zero_facet[12] = {};
+  writeBinaryStl(path("cut.stl"), "binary STL, truncated", 2, zero_facet); // lost its last facet
   // Upper-case ASCII STL (OpenMesh reads it), and a binary one cut short whose header says "solid".
   std::ofstream(path("upper.stl")) << "SOLID s\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\n"
                                       "VERTEX 0 nan 0\nENDLOOP\nENDFACET\nENDSOLID s\n";
-  {
-    std::ofstream cut(path("solid_cut.stl"), std::ios::binary);
-    const char header[80] = "solid exported as binary";
-    const std::uint32_t count = 3;
-    const char facet[50] = {};
-    cut.write(header, 80);
-    cut.write(reinterpret_cast<const char*>(&count), 4);
-    cut.write(facet, sizeof facet);
-  }
+  writeBinaryStl(path("solid_cut.stl"), "solid exported as binary", 3, zero_facet);
   std::ofstream(path("huge.off")) << "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n";
   std::ofstream(path("nan_text.stl")) << "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                                          "vertex 0 nan 0\nendloop\nendfacet\nendsolid s\n";
-  {
-    std::ofstream stl(path("nan.stl"), std::ios::binary);
-    const char header[80] = "binary STL with a NaN";
-    const std::uint32_t count = 1;
-    const float facet[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, NAN, 1, 0};
-    const std::uint16_t attributes = 0;
-    stl.write(header, 80);
-    stl.write(reinterpret_cast<const char*>(&count), 4);
-    stl.write(reinterpret_cast<const char*>(facet), sizeof facet);
-    stl.write(reinterpret_cast<const char*>(&attributes), 2);
-  }
+  const float nan_facet[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, NAN, 1, 0};
+  writeBinaryStl(path("nan.stl"), "binary STL with a NaN", 1, nan_facet);
   std::ofstream(path("flat.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
   // OpenMesh's OBJ reader asserts (and aborts) on a face vertex without its index: found by fuzzing.
   std::ofstream(path("no_index.obj")) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n";
