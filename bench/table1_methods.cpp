@@ -84,7 +84,11 @@ std::string caseLabel(const Case& c) {
 Stepper stepperFor(const MeshScene& scene, const Case& c) {
   switch (c.method) {
   case Method::kPlain: return [](Swarm* s) { integrate(s, kDt); };
-  case Method::kNoBody: return [](Swarm* s) { stepParticles(s->span(), kDt, nullptr, 0); };
+  case Method::kNoBody: // the best kernels, whichever a case stepped before this one set
+    return [set = bestInstructionSet()](Swarm* s) {
+      setInstructionSet(set);
+      stepParticles(s->span(), kDt, nullptr, 0);
+    };
   case Method::kImpact:
   case Method::kImpactDragFlow:
   case Method::kImpactDragFlowSwept: {
