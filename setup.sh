@@ -232,9 +232,9 @@ cmd_package() {
 }
 
 cmd_format_check() {
-  install_packages clang-format
+  install_packages clang-format git
   cd "$ROOT"
-  git ls-files -- '*.h' '*.hpp' '*.cpp' '*.c' | xargs clang-format --dry-run --Werror
+  git ls-files -- '*.h' '*.hpp' '*.cpp' '*.c' | xargs -r clang-format --dry-run --Werror
   log "clang-format: clean"
 }
 
@@ -242,9 +242,17 @@ cmd_format_check() {
 fetch_data() {
   install_packages libcgal-demo
   mkdir -p "$ROOT/data"
-  if [ ! -f "$ROOT/data/data/meshes/bunny00.off" ]; then
-    tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$ROOT/data" \
+  local meshes="$ROOT/data/data/meshes"
+  if [ ! -f "$meshes/bunny00.off" ] || [ ! -f "$meshes/fandisk.off" ] || [ ! -f "$meshes/blade.off" ]; then
+    # Unpacked beside and moved into place: an interrupted unpack leaves no half file that a later run
+    # would take for done.
+    local unpack
+    unpack=$(mktemp -d "$ROOT/data/.unpack.XXXXXX")
+    tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$unpack" \
       data/meshes/bunny00.off data/meshes/fandisk.off data/meshes/blade.off
+    mkdir -p "$meshes"
+    mv "$unpack"/data/meshes/*.off "$meshes/"
+    rm -rf "$unpack"
   fi
 }
 
@@ -362,9 +370,14 @@ cmd_demo() {
   "$build/tools/dngbake" "$ROOT/data/data/meshes/blade.off" -o "$out/figures/blade.dng" --mode potential --quiet
   "$build/samples/dng_thin_sheet" "$out/figures/blade.dng" "$out/figures" > "$out/figures/thin_sheet.json"
 
-  local inside rate bytes
-  inside=$(grep -o '"inside":[0-9]*' <<<"$judged" | cut -d: -f2)
-  rate=$(grep -o '"particle_steps_per_second":[0-9.e+]*' <<<"$stats" | cut -d: -f2)
+  # Every particle the demo stepped must have been judged, or the count proves nothing.
+  local inside rate bytes stepped judged_points
+  json_number() { grep -o "\"$1\":[0-9.e+]*" <<<"$2" | cut -d: -f2 || { log "the demo's report has no \"$1\""; exit 1; }; }
+  inside=$(json_number inside "$judged")
+  judged_points=$(json_number points "$judged")
+  stepped=$(json_number particles "$stats")
+  rate=$(json_number particle_steps_per_second "$stats")
+  [ "$judged_points" = "$stepped" ] || { log "judged $judged_points positions of $stepped particles"; exit 1; }
   bytes=$(stat -c %s "$dng")
   {
     echo "dngrid demo: the Stanford bunny (bunny00.off, 75,408 triangles)"

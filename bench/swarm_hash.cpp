@@ -18,7 +18,7 @@
 // close to Table 1's load (spawned 0.1 to 2 voxels out, 8 steps each, about half a voxel per step).
 // A point spawned where the field reads below a hundredth of a voxel is one the field cannot prove
 // outside, and stays where it is (docs/RUNTIME.md, "Limits"). Exit codes: 0 done, 1 bad arguments or
-// unreadable field, 2 a step failed.
+// unreadable field, 2 a step failed, 3 this machine lacks the --isa set.
 #include "dng/body.h"
 #include "dng/file.h"
 #include "dng/instruction_set.h"
@@ -166,9 +166,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   Diagnostic diag;
-  if (setInstructionSet(options.isa, &diag) != Status::kOk) {
+  if (setInstructionSet(options.isa, &diag) != Status::kOk) { // this machine lacks the set
     std::fprintf(stderr, "swarm_hash: %s\n", diag.message);
-    return 1;
+    return 3;
   }
   File file;
   if (File::open(options.field, &file, &diag) != Status::kOk) {

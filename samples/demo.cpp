@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
   material.flow_distance = 2.0f * g.voxel_size;
   material.swept = true;
   dng::Body mesh;
-  dng::Body::create(&field, material, &mesh);
+  dng::samples::require(dng::Body::create(&field, material, &mesh, &diag), diag);
   const std::vector<dng::Body> bodies = {mesh};
 
   // The mesh is about one unit tall: scale gravity to it, so drops take a moment to land.
@@ -131,15 +131,17 @@ int main(int argc, char** argv) {
   dng::samples::Trails trails(command_line.pictures ? folder + "/demo" : "", g.origin, g.origin + size, bodies,
                               {1.0f, 0.55f, 0.15f}, up);
   double step_seconds = 0.0;
+  std::uint64_t particle_steps = 0; // the live particles, summed over the steps (emitters add as they go)
   std::uint64_t contacts = 0;
   for (int step = 0; step < kSteps; ++step) {
     for (int i = 0; step < kEmitSteps && i < per_step; ++i)
       particles.add(raindrop(field, up, rng), {0, 0, 0});
     const dng::ParticleSpan span = particles.span();
-    dng::applyGravity(span, gravity, kDt);
+    dng::samples::require(dng::applyGravity(span, gravity, kDt, &diag), diag);
     const auto start = std::chrono::steady_clock::now();
-    dng::stepParticles(span, kDt, bodies.data(), bodies.size());
+    dng::samples::require(dng::stepParticles(span, kDt, bodies.data(), bodies.size(), &diag), diag);
     step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    particle_steps += span.count;
     for (std::uint8_t c : particles.contact)
       contacts += c;
     trails.record(step, particles.px, particles.py, particles.pz);
@@ -155,7 +157,7 @@ int main(int argc, char** argv) {
   }
   std::printf("{\"sample\":\"demo\",\"particles\":%zu,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"field_below_zero\":%zu}\n",
-              count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
+              count, kSteps, step_seconds, step_seconds > 0 ? double(particle_steps) / step_seconds : 0.0,
               (unsigned long long)contacts, below_zero);
   if (command_line.positional.size() > 3 && !writePositions(command_line.positional[3].c_str(), particles)) {
     std::fprintf(stderr, "%s: cannot write %s\n", argv[0], command_line.positional[3].c_str());

@@ -107,7 +107,8 @@ std::size_t run(const char* name, float restitution, float drag, const dng::View
   material.drag = drag;
   material.contact_distance = 0.1f; // theta = 1 voxel, as in the paper's Fig. 3c
   dng::Body table;
-  dng::Body::create(&field, material, &table);
+  dng::Diagnostic diag; // what a refused call says
+  dng::samples::require(dng::Body::create(&field, material, &table, &diag), diag);
   const std::vector<dng::Body> bodies = {table};
 
   // Every particle starts at once: a slab 2 m above the table, drifting sideways.
@@ -126,13 +127,15 @@ std::size_t run(const char* name, float restitution, float drag, const dng::View
   // Rebound: the highest point after the first contact (-1 before it); the table's top is z = 0.
   std::vector<float> rebound(std::size_t(count), -1.0f);
   double step_seconds = 0.0;
+  std::uint64_t particle_steps = 0; // the live particles, summed over the steps (emitters add as they go)
   std::uint64_t contacts = 0;
   for (int step = 0; step < kSteps; ++step) {
     const dng::ParticleSpan span = particles.span();
-    dng::applyGravity(span, {0.0f, 0.0f, -9.81f}, kDt);
+    dng::samples::require(dng::applyGravity(span, {0.0f, 0.0f, -9.81f}, kDt, &diag), diag);
     const auto start = std::chrono::steady_clock::now();
-    dng::stepParticles(span, kDt, bodies.data(), bodies.size());
+    dng::samples::require(dng::stepParticles(span, kDt, bodies.data(), bodies.size(), &diag), diag);
     step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    particle_steps += span.count;
     for (std::size_t n = 0; n < particles.px.size(); ++n) {
       contacts += particles.contact[n];
       if (particles.contact[n])
@@ -157,7 +160,7 @@ std::size_t run(const char* name, float restitution, float drag, const dng::View
   }
   std::printf("{\"sample\":\"%s\",\"particles\":%d,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
-              name, count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
+              name, count, kSteps, step_seconds, step_seconds > 0 ? double(particle_steps) / step_seconds : 0.0,
               (unsigned long long)contacts, inside);
   const float mean_rebound = touched ? float(rebound_sum / double(touched)) : 0.0f;
   const float fraction_resting = float(resting) / float(count);

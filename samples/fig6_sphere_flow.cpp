@@ -103,7 +103,8 @@ std::size_t run(const Stream& stream, const dng::View& field, const dng::samples
   material.flow_out = 3.0f;
   material.flow_distance = 0.2f;
   dng::Body sphere;
-  dng::Body::create(&field, material, &sphere);
+  dng::Diagnostic diag; // what a refused call says
+  dng::samples::require(dng::Body::create(&field, material, &sphere, &diag), diag);
   const std::vector<dng::Body> bodies = {sphere};
 
   const Vec3f gravity = stream.gravity ? Vec3f{0, 0, -9.81f} : Vec3f{};
@@ -120,6 +121,7 @@ std::size_t run(const Stream& stream, const dng::View& field, const dng::samples
   dng::samples::Trails trails(command_line.pictures ? folder + "/" + stream.name : "", {-2.5f, -2.5f, -2.5f},
                               {2.5f, 2.5f, 2.5f}, bodies, {0.2f, 0.55f, 1.0f});
   double step_seconds = 0.0;
+  std::uint64_t particle_steps = 0; // the live particles, summed over the steps (emitters add as they go)
   std::uint64_t contacts = 0;
   for (int step = 0; step < kSteps; ++step) {
     for (int i = 0; step < kEmitSteps && i < per_step; ++i) {
@@ -128,13 +130,14 @@ std::size_t run(const Stream& stream, const dng::View& field, const dng::samples
       start_offsets.push_back(r);
     }
     const dng::ParticleSpan span = particles.span();
-    dng::applyGravity(span, gravity, kDt);
+    dng::samples::require(dng::applyGravity(span, gravity, kDt, &diag), diag);
     // Without gravity the stream is carried by the air moving with it (as smoke in a draught), so
     // particles slowed by the sphere pick up speed again downstream.
-    if (!stream.gravity) dng::applyAirDrag(span, wind, 2.0f, kDt);
+    if (!stream.gravity) dng::samples::require(dng::applyAirDrag(span, wind, 2.0f, kDt, &diag), diag);
     const auto start = std::chrono::steady_clock::now();
-    dng::stepParticles(span, kDt, bodies.data(), bodies.size());
+    dng::samples::require(dng::stepParticles(span, kDt, bodies.data(), bodies.size(), &diag), diag);
     step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    particle_steps += span.count;
     for (std::uint8_t c : particles.contact)
       contacts += c;
     trails.record(step, particles.px, particles.py, particles.pz);
@@ -161,7 +164,7 @@ std::size_t run(const Stream& stream, const dng::View& field, const dng::samples
   }
   std::printf("{\"sample\":\"%s\",\"particles\":%zu,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
-              stream.name, count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
+              stream.name, count, kSteps, step_seconds, step_seconds > 0 ? double(particle_steps) / step_seconds : 0.0,
               (unsigned long long)contacts, inside);
   const float fraction_downstream = aimed ? float(past) / float(aimed) : 0.0f;
   const float mean_offset = past ? float(offset_sum / double(past)) : 0.0f;

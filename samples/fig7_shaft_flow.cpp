@@ -114,7 +114,8 @@ std::size_t run(const Variant& variant, const dng::View& field, const dng::sampl
   material.flow_out = variant.rho_out;
   material.flow_distance = variant.flow_distance;
   dng::Body shaft;
-  dng::Body::create(&field, material, &shaft);
+  dng::Diagnostic diag; // what a refused call says
+  dng::samples::require(dng::Body::create(&field, material, &shaft, &diag), diag);
   const std::vector<dng::Body> bodies = {shaft};
 
   // The emitter disk's axes: the stream runs along x, so the disk spans y and z.
@@ -128,6 +129,7 @@ std::size_t run(const Variant& variant, const dng::View& field, const dng::sampl
   dng::samples::Trails trails(command_line.pictures ? folder + "/" + variant.name : "", {-2.2f, -1.6f, -1.2f},
                               {2.2f, 1.6f, 1.2f}, bodies, {1.0f, 0.5f, 0.15f});
   double step_seconds = 0.0;
+  std::uint64_t particle_steps = 0; // the live particles, summed over the steps (emitters add as they go)
   std::uint64_t contacts = 0;
   for (int step = 0; step < kSteps; ++step) {
     for (int i = 0; step < kEmitSteps && i < per_step; ++i) {
@@ -138,10 +140,11 @@ std::size_t run(const Variant& variant, const dng::View& field, const dng::sampl
     const dng::ParticleSpan span = particles.span();
     // No gravity: the stream is carried by the air moving with it (as smoke in a draught), so particles
     // slowed by the shaft pick up speed again downstream.
-    dng::applyAirDrag(span, kDirection * kSpeed, 2.0f, kDt);
+    dng::samples::require(dng::applyAirDrag(span, kDirection * kSpeed, 2.0f, kDt, &diag), diag);
     const auto start = std::chrono::steady_clock::now();
-    dng::stepParticles(span, kDt, bodies.data(), bodies.size());
+    dng::samples::require(dng::stepParticles(span, kDt, bodies.data(), bodies.size(), &diag), diag);
     step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    particle_steps += span.count;
     for (std::uint8_t c : particles.contact)
       contacts += c;
     trails.record(step, particles.px, particles.py, particles.pz);
@@ -168,7 +171,7 @@ std::size_t run(const Variant& variant, const dng::View& field, const dng::sampl
   }
   std::printf("{\"sample\":\"%s\",\"particles\":%zu,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
-              variant.name, count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
+              variant.name, count, kSteps, step_seconds, step_seconds > 0 ? double(particle_steps) / step_seconds : 0.0,
               (unsigned long long)contacts, inside);
   const float fraction_downstream = aimed ? float(past) / float(aimed) : 0.0f;
   const float mean_offset = past ? float(offset_sum / double(past)) : 0.0f;

@@ -30,6 +30,17 @@ namespace dng {
 namespace samples {
 
 // ---------------------------------------------------------------------------------------------------
+// Errors
+
+/// Stops the sample with exit code 2 and the call's message when a runtime call failed. A body the
+/// runtime refused would let every particle fall past it, and a figure would count nothing and pass.
+inline void require(Status status, const Diagnostic& diag) {
+  if (status == Status::kOk) return;
+  std::fprintf(stderr, "error: %s\n", diag.message);
+  std::exit(2);
+}
+
+// ---------------------------------------------------------------------------------------------------
 // Command line
 
 struct CommandLine {

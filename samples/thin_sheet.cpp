@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
   material.restitution = 0.3f;
   material.collision_distance = 0.2f * g.voxel_size;
   dng::Body sheet;
-  dng::Body::create(&field, material, &sheet);
+  dng::samples::require(dng::Body::create(&field, material, &sheet, &diag), diag);
   const std::vector<dng::Body> bodies = {sheet};
 
   // Every particle starts at once, flying at the sheet at 0.8 of the field's reach per step: fast, but
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
   std::uint64_t contacts = 0;
   for (int step = 0; step < kSteps; ++step) {
     const auto start = std::chrono::steady_clock::now();
-    dng::stepParticles(particles.span(), kDt, bodies.data(), bodies.size());
+    dng::samples::require(dng::stepParticles(particles.span(), kDt, bodies.data(), bodies.size(), &diag), diag);
     step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // Checked every step near the start: a particle that got through keeps flying away.
     for (std::size_t n = 0; n < crossed.size(); ++n) {

@@ -3,7 +3,8 @@
 //   dng_count_inside MESH POSITIONS [MIN_DEPTH]
 // POSITIONS holds "x y z" per line in the mesh's frame. Prints {"points":N,"inside":K,"deepest":D}
 // where K counts points inside deeper than MIN_DEPTH (mesh units, default 0) and D is the deepest.
-// Exit 0 when counted, 1 on bad arguments, 2 when a file cannot be read.
+// Exit 0 when counted, 1 on bad arguments, 2 when a file cannot be read or POSITIONS holds anything
+// but finite "x y z" triples (a point that is not a number could be counted as neither inside nor out).
 #include "mesh_reference.h"
 #include "stages.h"
 
@@ -33,11 +34,19 @@ int main(int argc, char** argv) {
   float deepest = 0.0f;
   dng::Vec3f p;
   while (in >> p.x >> p.y >> p.z) {
+    if (!dng::isFinite(p)) {
+      std::fprintf(stderr, "dng_count_inside: %s: point %zu is not finite\n", argv[2], points + 1);
+      return 2;
+    }
     ++points;
     if (!mesh.inside(p)) continue;
     const float depth = mesh.closest(p).distance;
     deepest = std::max(deepest, depth);
     inside += depth > min_depth ? 1 : 0;
+  }
+  if (!in.eof()) { // stopped on something that is not a number: "nan", "inf", a word, a cut line
+    std::fprintf(stderr, "dng_count_inside: %s: unreadable after point %zu\n", argv[2], points);
+    return 2;
   }
   std::printf("{\"points\":%zu,\"inside\":%zu,\"deepest\":%.6g}\n", points, inside, double(deepest));
   return 0;
