@@ -142,7 +142,7 @@ cmd_runtime_only() {
 check_embedding() {
   local parent="$ROOT/build/embed"
   mkdir -p "$parent"
-  printf 'cmake_minimum_required(VERSION 3.25)\nproject(engine C CXX)\nadd_subdirectory(%s dngrid)\n' "$ROOT" \
+  printf 'cmake_minimum_required(VERSION 3.25)\nproject(engine C CXX)\nadd_subdirectory(\"%s\" dngrid)\n' "$ROOT" \
     > "$parent/CMakeLists.txt"
   cmake -S "$parent" -B "$parent/build" -G Ninja >/dev/null
   if grep -qE 'dng_baker|dngdump|dngbake|gtest' "$parent/build/build.ninja"; then

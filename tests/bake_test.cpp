@@ -660,7 +660,7 @@ TEST_F(BakeTest, BandFromMaxSpeedCoversTheTravelPerStep) {
 using testing::ProgramRun;
 
 ProgramRun runDngbake(const std::string& args) {
-  return testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + args + " 2>&1");
+  return testing::runProgram(testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + args + " 2>&1");
 }
 
 // A binary STL of one facet (normal, three vertices) that declares `declared` facets.
@@ -812,7 +812,7 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("big.obj"));
   std::ofstream(path("kept.dng")) << "previous contents";
   // A box at 2000 voxels needs gigabytes of band; 600 MB of address space is enough to start.
-  const ProgramRun run = testing::runProgram("ulimit -v 600000; " + std::string(DNG_DNGBAKE_PATH) + " " +
+  const ProgramRun run = testing::runProgram("ulimit -v 600000; " + testing::shellQuoted(DNG_DNGBAKE_PATH) + " " +
                                              path("big.obj") + " --resolution 2000 -o " + path("kept.dng") + " 2>&1");
   EXPECT_EQ(run.exit_code, 4) << run.output;
   EXPECT_NE(run.output.find("out of memory"), std::string::npos) << run.output;
@@ -822,7 +822,7 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
 // Shell lines that start dngbake in the background as $pid and wait until it has installed its SIGINT
 // handler (bit 2 of SigCgt in /proc): a signal before that would kill it the default way.
 std::string startDngbake(const std::string& args) {
-  return std::string(DNG_DNGBAKE_PATH) + " " + args + " & pid=$!; " +
+  return testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + args + " & pid=$!; " +
          "until m=$(grep ^SigCgt /proc/$pid/status 2>/dev/null | cut -f2) && [ -n \"$m\" ] && (( 0x$m & 2 )); do "
          "kill -0 $pid 2>/dev/null || break; done; ";
 }
@@ -885,18 +885,18 @@ TEST_F(BakeTest, InterruptDuringTheWritesFinishesAndReportsSuccess) {
 TEST_F(BakeTest, KillingTheBakeNeverLeavesAPartialOutput) {
   testing::writeObj(testing::sphereMesh({0, 0, 0}, 1.0f, 48, 24), path("kill.obj"));
   const std::string bake_args = path("kill.obj") + " -o " + path("kill.dng") + " --resolution 64 --quiet";
-  ASSERT_EQ(testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + bake_args).exit_code, 0);
+  ASSERT_EQ(testing::runProgram(testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + bake_args).exit_code, 0);
   std::mt19937 random(11);
   int killed = 0;
   for (int round = 0; round < 12; ++round) {
     // Busy-loop steps before the kill, spread from "while loading" to about a second (past the write
     // on an idle machine), with jitter: ~5 us a step.
     const int spin = round * 16000 + std::uniform_int_distribution<int>(0, 16000)(random);
-    const ProgramRun run =
-        testing::runProgram("bash -c '" + std::string(DNG_DNGBAKE_PATH) + " " + bake_args + " --tolerance 0.0" +
-                            std::to_string(round % 5) + " & pid=$!; for ((i = 0; i < " + std::to_string(spin) +
-                            "; i++)); do :; done; kill -KILL $pid 2>/dev/null && echo killed; "
-                            "wait $pid; true'");
+    const ProgramRun run = testing::runProgram("bash -c '" + testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + bake_args +
+                                               " --tolerance 0.0" + std::to_string(round % 5) +
+                                               " & pid=$!; for ((i = 0; i < " + std::to_string(spin) +
+                                               "; i++)); do :; done; kill -KILL $pid 2>/dev/null && echo killed; "
+                                               "wait $pid; true'");
     killed += run.output.find("killed") != std::string::npos ? 1 : 0;
     File file;
     ASSERT_EQ(File::open(path("kill.dng").c_str(), &file), Status::kOk) << "round " << round;

@@ -30,8 +30,8 @@ struct ProgramRun {
 
 // Runs dngdump in `dir` (so reports name files relatively), stderr appended to stdout when asked.
 ProgramRun dngdump(const std::string& dir, const std::string& args, bool with_stderr = false) {
-  const testing::ProgramRun run = testing::runProgram("cd '" + dir + "' && " + DNG_DNGDUMP_PATH + " " + args +
-                                                      (with_stderr ? " 2>&1" : " 2>/dev/null"));
+  const testing::ProgramRun run = testing::runProgram("cd '" + dir + "' && " + testing::shellQuoted(DNG_DNGDUMP_PATH) +
+                                                      " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null"));
   return {run.exit_code, run.output};
 }
 

@@ -348,7 +348,7 @@ struct BadCase {
 };
 
 testing::ProgramRun runDngbake(const std::string& args) {
-  return testing::runProgram(std::string(DNG_DNGBAKE_PATH) + " " + args + " 2>&1");
+  return testing::runProgram(testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + args + " 2>&1");
 }
 
 TEST_F(ImportTest, BadScenesGetTheirExitCodeAMessageAndNoOutput) {
@@ -444,7 +444,7 @@ TEST_F(ImportTest, JsonReportsEveryInputAndNode) {
   EXPECT_EQ(empty.exit_code, 3) << empty.output;
   EXPECT_NE(empty.output.find("nothing.off': the mesh has no faces"), std::string::npos) << empty.output;
   // dngdump shows how the sources' units became the field's.
-  const testing::ProgramRun dump = testing::runProgram(std::string(DNG_DNGDUMP_PATH) + " " + path("out.dng"));
+  const testing::ProgramRun dump = testing::runProgram(testing::shellQuoted(DNG_DNGDUMP_PATH) + " " + path("out.dng"));
   ASSERT_EQ(dump.exit_code, 0) << dump.output;
   EXPECT_NE(dump.output.find("units      m (from glb in m, scale 1; off in unknown, scale 1)"), std::string::npos)
       << dump.output;

@@ -14,6 +14,10 @@ struct ProgramRun {
   std::string output;
 };
 
+/// A path in double quotes for a command line (also inside a `bash -c '...'` one): a checkout whose path
+/// has spaces builds its tools there. Paths with `"`, `$` or a backquote are not supported.
+inline std::string shellQuoted(const std::string& path) { return "\"" + path + "\""; }
+
 inline ProgramRun runProgram(const std::string& command) {
   ProgramRun run;
   FILE* pipe = ::popen(command.c_str(), "r");
