@@ -5,6 +5,7 @@
 #include "command_line.h"
 #include "exit_codes.h"
 #include "import_options.h"
+#include "terminal.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -12,11 +13,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <map>
-
-#include <unistd.h>
 
 namespace {
 
@@ -62,10 +59,7 @@ struct Progress {
   }
 };
 
-bool wantProgress(const CommandLine& cl) {
-  const char* term = std::getenv("TERM");
-  return !cl.json && !cl.quiet && ::isatty(STDERR_FILENO) && term != nullptr && std::strcmp(term, "dumb") != 0;
-}
+bool wantProgress(const CommandLine& cl) { return !cl.json && !cl.quiet && dng::tools::stderrIsTerminal(); }
 
 void addOptions(CLI::App& app, CommandLine& cl) {
   dng::tools::addImportOptions(app, cl.inputs);

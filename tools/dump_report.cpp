@@ -1,15 +1,12 @@
 // dngdump's reports: what is in a file, for people (summary) and programs (--json), and --stats.
 #include "dump.h"
 #include "dump_json.h"
+#include "terminal.h"
 
 #include <algorithm>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
-
-#include <unistd.h>
 
 namespace dng {
 namespace dump {
@@ -22,7 +19,7 @@ class SliceProgress {
 public:
   SliceProgress(const char* what, const GridInfo& g)
       : what_(what), slices_(g.dims[2]),
-        draw_(double(g.dims[0]) * g.dims[1] * g.dims[2] >= 1e8 && ::isatty(STDERR_FILENO) && terminal()) {}
+        draw_(double(g.dims[0]) * g.dims[1] * g.dims[2] >= 1e8 && tools::stderrIsTerminal()) {}
   SliceProgress(const SliceProgress&) = delete;
   SliceProgress& operator=(const SliceProgress&) = delete;
   ~SliceProgress() {
@@ -36,10 +33,6 @@ public:
   }
 
 private:
-  static bool terminal() {
-    const char* term = std::getenv("TERM");
-    return term != nullptr && std::strcmp(term, "dumb") != 0;
-  }
   const char* what_;
   std::uint32_t slices_;
   bool draw_;

@@ -73,17 +73,15 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
     g.dims[a] = std::uint32_t(dims);
     // Centre the mesh in its padded box.
     origin[a] = axis_min[a] - (float(g.dims[a]) * voxel - axis_extent[a]) * 0.5f;
-  }
-  g.origin = {origin[0], origin[1], origin[2]};
-  // The format's range for placements (format::kMaxMagnitude): past it the encoder would fail only
-  // after the whole bake.
-  for (int a = 0; a < 3; ++a) {
+    // The format's range for placements (format::kMaxMagnitude): past it the encoder would fail only
+    // after the whole bake.
     if (!(std::fabs(origin[a]) + float(g.dims[a]) * voxel <= format::kMaxMagnitude) ||
         !(g.band <= format::kMaxMagnitude))
       return BakeStatus::failure(BakeError::kBadOption,
                                  "the grid would reach beyond +-1e18, the format's range: bake in larger units "
                                  "(--units, --scale) or a smaller voxel size or band");
   }
+  g.origin = {origin[0], origin[1], origin[2]};
   const double voxels = double(g.dims[0]) * g.dims[1] * g.dims[2];
   if (options.encoding == format::Encoding::kDense && voxels > kMaxDenseVoxels)
     return BakeStatus::failure(BakeError::kBadOption,

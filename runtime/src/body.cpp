@@ -30,10 +30,9 @@ struct Column {
 double dot(const Column& a, const Column& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 double length(const Column& c) { return std::sqrt(dot(c, c)); }
 
-// A scale the body's frames can use: it and its inverse are normal floats.
-bool usableScale(double scale) {
-  return std::isnormal(float(scale)) && std::isnormal(1.0f / float(scale)) && float(scale) > 0.0f;
-}
+// A scale (a column's length, never negative) the body's frames can use: it and its inverse are normal
+// floats.
+bool usableScale(double scale) { return std::isnormal(float(scale)) && std::isnormal(1.0f / float(scale)); }
 
 } // namespace
 

@@ -141,7 +141,6 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   motions.resize(count);
   prepared.resize(count);
   boxes.resize(count);
-  fields.resize(count);
   states.resize(count * kStateFloats);
   everywhere.clear();
   // Each body's boxes, the grown one exactly as the step grows it: the corners minus and plus the travel.
@@ -153,7 +152,6 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   for (std::size_t b = 0; b < count; ++b) {
     motions[b] = motionOf(bodies[b], dt);
     prepared[b] = prepareStep(bodies[b], motions[b]);
-    fields[b] = bodies[b].field();
     std::uint32_t* state = &states[b * kStateFloats];
     forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { state[k] = bits; });
     const float t = motions[b].travel;
@@ -254,7 +252,7 @@ bool BodyIndex::Impl::matches(const Body* bodies, std::size_t body_count, std::s
     const std::uint32_t* built_state = &states[b * kStateFloats];
     std::uint32_t differ = 0;
     forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { differ |= bits ^ built_state[k]; });
-    if (differ != 0 || bodies[b].field() != fields[b] || !fieldUnchanged(prepared[b], bodies[b])) {
+    if (differ != 0 || !fieldUnchanged(prepared[b], bodies[b])) {
       *out_changed = b;
       return false;
     }

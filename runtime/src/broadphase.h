@@ -55,8 +55,9 @@ struct StepBody {
 /// Out of line (step.cpp, beside the walk's margin), for the index and the step alike.
 StepBody prepareStep(const Body& body, const BodyMotion& motion);
 
-/// Whether what `prepared` (prepareStep's) took from `body`'s field still holds: a View opened again in
-/// place may hold another file, and the kernels trust these numbers (the encoding picks the lookup).
+/// Whether `body` still has the field `prepared` (prepareStep's) was made for, with the numbers it took
+/// from it: a View opened again in place may hold another file, and the kernels trust these numbers
+/// (the encoding picks the lookup).
 bool fieldUnchanged(const StepBody& prepared, const Body& body);
 
 /// The sorted body lists a query box reads, or `all` when it must test every body.
@@ -126,7 +127,6 @@ struct BodyIndex::Impl {
   // grows it.
   std::vector<BodyBoxes> boxes;
   // What the build read of each body, to tell a stale index (BodyState).
-  std::vector<const View*> fields;
   std::vector<std::uint32_t> states;
   // The grid: cells of edge 1 / inv_cell from origin, x fastest; cell c lists
   // cell_bodies[cell_start[c], cell_start[c + 1]), in increasing body index.
