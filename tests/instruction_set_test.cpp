@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -156,6 +157,11 @@ TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
   // tail, at 32, 8 and 4 lanes.
   const std::vector<float> points = queryPoints(20031);
   const std::size_t count = points.size() / 4;
+  // The same points packed as Vec3f (12 bytes apart), which the SIMD sets load with lane permutes.
+  std::vector<float> packed;
+  for (std::size_t n = 0; n < count; ++n)
+    packed.insert(packed.end(), {points[4 * n], points[4 * n + 1], points[4 * n + 2]});
+  const std::pair<const float*, std::size_t> layouts[] = {{points.data(), 16}, {packed.data(), sizeof(Vec3f)}};
   for (const AnalyticField* shape : {&box, &sphere}) {
     for (std::pair<bool, Extras> kind : {std::pair{false, Extras::kNone},
                                          {true, Extras::kNone},
@@ -176,10 +182,13 @@ TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
         ASSERT_GT(in_band, count / 20) << "the points must meet the band, or the comparison says little";
         for (InstructionSet set : simdSets()) {
           ChosenSet chosen(set);
-          field.view.sampleBatch(points.data(), 16, count, lanes.data(), mode);
-          for (std::size_t n = 0; n < count; ++n)
-            ASSERT_TRUE(sameSample(lanes[n], reference[n]))
-                << instructionSetName(set) << ", mode " << unsigned(mode) << ", point " << n;
+          for (const auto& [first, stride] : layouts) {
+            std::fill(lanes.begin(), lanes.end(), Sample{-1.0f, Vec3f{2.0f, 3.0f, 4.0f}, SampleStatus::kInBand});
+            field.view.sampleBatch(first, stride, count, lanes.data(), mode);
+            for (std::size_t n = 0; n < count; ++n)
+              ASSERT_TRUE(sameSample(lanes[n], reference[n])) << instructionSetName(set) << ", mode " << unsigned(mode)
+                                                              << ", stride " << stride << ", point " << n;
+          }
         }
       }
     }

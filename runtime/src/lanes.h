@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #define DNG_LANE_INLINE inline __attribute__((always_inline))
 // The same for a lambda handed to an inlined kernel (after its parameter list).
@@ -71,6 +72,28 @@ constexpr std::size_t kLaneAlign = 64;
 struct Lanes3 {
   alignas(kLaneAlign) float x[kWidth], y[kWidth], z[kWidth];
 };
+
+#ifndef DNG_LANES_OWN_RECORDS
+/// The lanes of packed xyz triples: lane n is (p[3n], p[3n + 1], p[3n + 2]). Sets without lane permutes
+/// for this (lanes_avx512.h has them) transpose through an array.
+DNG_LANE_INLINE void loadTriples(const float* p, F* x, F* y, F* z) {
+  Lanes3 l;
+  for (int lane = 0; lane < kWidth; ++lane)
+    l.x[lane] = p[3 * lane], l.y[lane] = p[3 * lane + 1], l.z[lane] = p[3 * lane + 2];
+  *x = load(l.x), *y = load(l.y), *z = load(l.z);
+}
+/// Packed five-word records: word 5n + f of `out` is lane n of field[f] (copied as bytes, so the
+/// records may be structs of floats and 32-bit integers).
+DNG_LANE_INLINE void storeQuintuples(void* out, const F field[5]) {
+  alignas(kLaneAlign) float words[5][kWidth];
+  for (int f = 0; f < 5; ++f)
+    store(words[f], field[f]);
+  auto* bytes = static_cast<unsigned char*>(out);
+  for (int lane = 0; lane < kWidth; ++lane)
+    for (int f = 0; f < 5; ++f)
+      std::memcpy(bytes + (5 * lane + f) * sizeof(float), &words[f][lane], sizeof(float));
+}
+#endif
 
 } // namespace DNG_LANES_NS
 } // namespace lanes

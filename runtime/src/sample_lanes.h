@@ -11,6 +11,7 @@
 #include "lanes.h"
 #include "view_internals.h"
 
+#include <cstddef>
 #include <cstring>
 #include <limits>
 
@@ -427,28 +428,32 @@ template <bool kDense> DNG_LANE_INLINE LaneSample accurateLanes(const View& view
 
 // The lanes' points from strided xyz triples, starting at point n.
 DNG_LANE_INLINE V3 loadPoints(const unsigned char* bytes, std::size_t stride, std::size_t n) {
+  V3 p;
+  if (stride == 3 * sizeof(float)) { // packed Vec3f
+    loadTriples(reinterpret_cast<const float*>(bytes + n * stride), &p.x, &p.y, &p.z);
+    return p;
+  }
   alignas(kLaneAlign) float xyz[3][kWidth];
   for (int lane = 0; lane < kWidth; ++lane) {
-    float p[3];
-    std::memcpy(p, bytes + (n + std::size_t(lane)) * stride, sizeof p);
-    xyz[0][lane] = p[0], xyz[1][lane] = p[1], xyz[2][lane] = p[2];
+    float q[3];
+    std::memcpy(q, bytes + (n + std::size_t(lane)) * stride, sizeof q);
+    xyz[0][lane] = q[0], xyz[1][lane] = q[1], xyz[2][lane] = q[2];
   }
   return {load(xyz[0]), load(xyz[1]), load(xyz[2])};
 }
 
-// Writes the lanes' samples to out[0..kWidth).
+static_assert(sizeof(Sample) == 5 * sizeof(float) && offsetof(Sample, normal) == sizeof(float) &&
+                  offsetof(Sample, status) == 4 * sizeof(float) && sizeof(SampleStatus) == sizeof(float),
+              "storeSamples writes a Sample as five 32-bit words");
+
+// Writes the lanes' samples to out[0..kWidth), as five-word records (no branch per lane for the status).
 DNG_LANE_INLINE void storeSamples(const LaneSample& s, Sample* out) {
-  alignas(kLaneAlign) float d[kWidth], nx[kWidth], ny[kWidth], nz[kWidth];
-  store(d, s.distance), store(nx, s.normal.x), store(ny, s.normal.y), store(nz, s.normal.z);
-  const LaneBits in_band = bits(s.in_band), outside = bits(s.far_outside), inside = bits(s.far_inside);
-  for (int lane = 0; lane < kWidth; ++lane) {
-    const LaneBits bit = laneBit(lane);
-    const SampleStatus status = (in_band & bit)   ? SampleStatus::kInBand
-                                : (outside & bit) ? SampleStatus::kFarOutside
-                                : (inside & bit)  ? SampleStatus::kFarInside
-                                                  : SampleStatus::kNoField;
-    out[lane] = {d[lane], Vec3f{nx[lane], ny[lane], nz[lane]}, status};
-  }
+  const auto code = [](SampleStatus status) { return splatI(std::int32_t(status)); };
+  const I status = select(s.in_band, code(SampleStatus::kInBand),
+                          select(s.far_outside, code(SampleStatus::kFarOutside),
+                                 select(s.far_inside, code(SampleStatus::kFarInside), code(SampleStatus::kNoField))));
+  const F words[5] = {s.distance, s.normal.x, s.normal.y, s.normal.z, asFloat(status)};
+  storeQuintuples(out, words);
 }
 
 template <bool kDense, Interpolation kMode> DNG_LANE_INLINE LaneSample sampleLanes(const View& view, V3 p) {
