@@ -7,7 +7,7 @@
 // (perf, callgrind) without the bake that table1_bench does first.
 //
 //   swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--speed V] [--swept]
-//              [--isa scalar|sse4.1|avx2|avx512|neon]
+//              [--structs] [--isa scalar|sse4.1|avx2|avx512|neon]
 //
 // The swarm: points drawn uniformly in the field's box, kept where the field reads 0 (or --near V
 // voxels) to 2 voxels outside, with random velocities up to 1.5 (or --speed V) voxels per step on each
@@ -16,6 +16,8 @@
 // slice each step, as table1_bench respawns), so the swarm stays near the surface; without it the
 // swarm spreads out and most late steps are far from it. `--lifetime 8 --near 0.1 --speed 0.6` is
 // close to Table 1's load (spawned 0.1 to 2 voxels out, 8 steps each, about half a voxel per step).
+// With --structs the step reads and writes the particles as an array of structs (position, velocity and
+// two floats of padding: strided spans of 32 bytes), as many engines keep them; the hash must not change.
 // A point spawned where the field reads below a hundredth of a voxel is one the field cannot prove
 // outside, and stays where it is (docs/RUNTIME.md, "Limits"). Exit codes: 0 done, 1 bad arguments or
 // unreadable field, 2 a step failed, 3 this machine lacks the --isa set.
@@ -47,6 +49,7 @@ struct Options {
   float near = 0.0f;  ///< spawn where the field reads at least this many voxels
   float speed = 1.5f; ///< voxels per step, the most on each axis
   bool swept = false;
+  bool structs = false; ///< step an array of structs (strided spans) instead of arrays
   InstructionSet isa = bestInstructionSet();
 };
 
@@ -76,6 +79,8 @@ bool parse(int argc, char** argv, Options* out) {
       out->speed = std::strtof(argv[++i], nullptr);
     } else if (arg == "--swept") {
       out->swept = true;
+    } else if (arg == "--structs") {
+      out->structs = true;
     } else if (arg == "--isa" && has_value) {
       if (!parseIsa(argv[++i], &out->isa)) return false;
     } else if (out->field == nullptr && arg[0] != '-') {
@@ -100,6 +105,33 @@ struct Swarm {
     return s;
   }
 };
+
+// The swarm as an engine's array of particle structs: the same numbers, 32 bytes per particle.
+struct ParticleStruct {
+  float position[3], velocity[3], padding[2];
+};
+std::vector<ParticleStruct> toStructs(const Swarm& s) {
+  std::vector<ParticleStruct> out(s.px.size());
+  for (std::size_t n = 0; n < out.size(); ++n)
+    out[n] = {{s.px[n], s.py[n], s.pz[n]}, {s.vx[n], s.vy[n], s.vz[n]}, {0.0f, 0.0f}};
+  return out;
+}
+void fromStructs(const std::vector<ParticleStruct>& in, Swarm* io) {
+  for (std::size_t n = 0; n < in.size(); ++n) {
+    io->px[n] = in[n].position[0], io->py[n] = in[n].position[1], io->pz[n] = in[n].position[2];
+    io->vx[n] = in[n].velocity[0], io->vy[n] = in[n].velocity[1], io->vz[n] = in[n].velocity[2];
+  }
+}
+ParticleSpan structSpan(std::vector<ParticleStruct>* particles, std::int32_t* body) {
+  ParticleStruct* first = particles->data();
+  ParticleSpan s;
+  s.position_x = &first->position[0], s.position_y = &first->position[1], s.position_z = &first->position[2];
+  s.velocity_x = &first->velocity[0], s.velocity_y = &first->velocity[1], s.velocity_z = &first->velocity[2];
+  s.position_stride = s.velocity_stride = sizeof(ParticleStruct);
+  s.count = particles->size();
+  s.out_body = body;
+  return s;
+}
 
 Swarm spawn(const View& view, std::size_t count, float near, float voxels_per_step) {
   const GridInfo& g = view.grid();
@@ -162,7 +194,7 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: swarm_hash FIELD.dng [--particles N] [--steps N] [--lifetime N] [--near V] [--speed V] [--swept] "
-        "[--isa scalar|sse4.1|avx2|avx512|neon]\n");
+        "[--structs] [--isa scalar|sse4.1|avx2|avx512|neon]\n");
     return 1;
   }
   Diagnostic diag;
@@ -190,12 +222,16 @@ int main(int argc, char** argv) {
     if (options.lifetime > 0) respawn(born, step, std::size_t(options.lifetime), &swarm);
     for (float& v : swarm.vz)
       v -= 0.02f * h / kDt;
+    std::vector<ParticleStruct> structs;
+    if (options.structs) structs = toStructs(swarm);
+    const ParticleSpan span = options.structs ? structSpan(&structs, swarm.body.data()) : swarm.span();
     const double start = threadSeconds();
-    if (stepParticles(swarm.span(), kDt, &body, 1, &diag) != Status::kOk) {
+    if (stepParticles(span, kDt, &body, 1, &diag) != Status::kOk) {
       std::fprintf(stderr, "swarm_hash: step %d: %s\n", step, diag.message);
       return 2;
     }
     seconds += threadSeconds() - start;
+    if (options.structs) fromStructs(structs, &swarm);
     for (const auto* v : {&swarm.px, &swarm.py, &swarm.pz, &swarm.vx, &swarm.vy, &swarm.vz})
       hash.add(*v);
     hash.add(swarm.body);

@@ -285,7 +285,8 @@ Swarm randomSwarm(std::size_t count, std::uint32_t seed) {
   Swarm out;
   while (out.particles.size() < count) {
     const Vec3f v = normalizeOrZero({unit(rng), unit(rng), unit(rng)}) * (2.0f * kReachVoxels / kDt * unit(rng));
-    out.particles.push_back({{coord(rng), coord(rng), coord(rng)}, 0.0f, {v.x, v.y, v.z}, 0.0f});
+    const auto n = float(out.particles.size()); // age and size: bytes the step must leave alone
+    out.particles.push_back({{coord(rng), coord(rng), coord(rng)}, n, {v.x, v.y, v.z}, -n});
   }
   out.contact.assign(count, 7);
   out.body.assign(count, 99);
@@ -301,6 +302,8 @@ Swarm randomSwarm(std::size_t count, std::uint32_t seed) {
                << "particle " << n << " axis " << c << ": position " << p.position[c] << " vs " << q.position[c]
                << ", velocity " << p.velocity[c] << " vs " << q.velocity[c];
     }
+    if (!sameBits(a.particles[n].age, b.particles[n].age) || !sameBits(a.particles[n].size, b.particles[n].size))
+      return ::testing::AssertionFailure() << "particle " << n << ": age/size differ";
     if (a.contact[n] != b.contact[n] || a.body[n] != b.body[n])
       return ::testing::AssertionFailure() << "particle " << n << ": contact/body differ";
   }

@@ -153,6 +153,12 @@ DNG_LANE_INLINE void gather64(const std::uint64_t* base, __m512i index, __mmask1
   *lo = _mm512_permutex2var_epi32(first, even, second);
   *hi = _mm512_permutex2var_epi32(first, odd, second);
 }
+/// base[index] = x in the lanes of `m` (indices distinct). Only this set has a scatter instruction.
+#define DNG_LANES_SCATTER 1
+DNG_LANE_INLINE void scatter(float* base, I index, M m, F x) {
+  _mm512_mask_i32scatter_ps(base, m.a, index.a, x.a, 4);
+  _mm512_mask_i32scatter_ps(base, m.b, index.b, x.b, 4);
+}
 /// 64-bit words, returned as their low and high halves.
 DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, I* out_hi) {
   gather64(base, index.a, m.a, &out_lo->a, &out_hi->a);
