@@ -186,8 +186,8 @@ TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
             std::fill(lanes.begin(), lanes.end(), Sample{-1.0f, Vec3f{2.0f, 3.0f, 4.0f}, SampleStatus::kInBand});
             field.view.sampleBatch(first, stride, count, lanes.data(), mode);
             for (std::size_t n = 0; n < count; ++n)
-              ASSERT_TRUE(sameSample(lanes[n], reference[n])) << instructionSetName(set) << ", mode " << unsigned(mode)
-                                                              << ", stride " << stride << ", point " << n;
+              ASSERT_TRUE(sameSample(lanes[n], reference[n]))
+                  << instructionSetName(set) << ", mode " << unsigned(mode) << ", stride " << stride << ", point " << n;
           }
         }
       }
