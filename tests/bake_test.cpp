@@ -692,6 +692,10 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   std::ofstream(path("huge.off")) << "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n";
   std::ofstream(path("nan_text.stl")) << "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                                          "vertex 0 nan 0\nendloop\nendfacet\nendsolid s\n";
+  std::ofstream(path("nan.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                    "end_header\n0 0 0\n1 0 0\n0 nan 0\n3 0 1 2\n";
+  std::ofstream(path("cut_text.stl")) << "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n";
   const float nan_facet[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, NAN, 1, 0};
   writeBinaryStl(path("nan.stl"), "binary STL with a NaN", 1, nan_facet);
   std::ofstream(path("flat.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
@@ -722,6 +726,8 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("upper.stl"), 3, "line 6: vertex has coordinate 'nan', not a finite number"},
       {path("solid_cut.stl"), 3, "binary STL declares 3 facets, 234 bytes, but has 134: truncated"},
       {path("cut.stl"), 3, "binary STL declares 2 facets, 184 bytes, but has 134: truncated"},
+      {path("nan.ply"), 3, "PLY vertex 2 has coordinate 'nan', not a finite number"},
+      {path("cut_text.stl"), 3, "line 2: facet has no 'endfacet': the file is truncated"},
       {path("folder.obj"), 2, "folder.obj' is a directory, not a mesh file"},
       // One bad or empty input among several: the union used to hide it (a NaN vertex in a second OFF
       // baked 84 million garbage triangles).

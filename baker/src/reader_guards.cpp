@@ -117,6 +117,66 @@ std::string plyLineProblem(const std::string& line, std::uint64_t file_size, boo
   return "has an unknown keyword '" + w[0] + "'";
 }
 
+// What the ASCII vertex check needs from a PLY header: the format, and the first element's name, count
+// and properties (the word of each scalar property on a line; lists make the words' places vary).
+struct PlyLayout {
+  bool ascii = false;
+  int elements = 0;
+  std::string first;
+  std::uint64_t count = 0;
+  std::vector<std::string> properties;
+  bool has_list = false;
+};
+
+// Notes a well-formed header line (plyLineProblem found nothing wrong with it) in `io`.
+void notePlyLine(const std::string& line, PlyLayout* io) {
+  std::istringstream words(line);
+  std::string keyword, a, b;
+  words >> keyword >> a >> b;
+  if (keyword == "format") io->ascii = a == "ascii";
+  if (keyword == "element" && ++io->elements == 1) io->first = a, io->count = std::stoull(b);
+  if (keyword != "property" || io->elements != 1) return;
+  if (a == "list") io->has_list = true;
+  io->properties.push_back(b);
+}
+
+// Whether the word [begin, end) is a whole number that is finite as a float.
+bool finiteNumber(const char* begin, const char* end) {
+  char* stop = nullptr;
+  const double value = std::strtod(begin, &stop);
+  return stop == end && end != begin && std::isfinite(float(value));
+}
+
+// ASCII vertices, when they are the first element: x, y and z must be finite numbers. OpenMesh's
+// reader stops at "nan" and the bake failed as "the mesh has no faces". Words are read in place, as
+// the other text guards read theirs.
+template <class Failure> BakeStatus checkPlyVertices(std::istream& in, const PlyLayout& layout, Failure failure) {
+  if (!layout.ascii || layout.first != "vertex" || layout.has_list) return BakeStatus::success();
+  std::vector<bool> is_axis(layout.properties.size());
+  std::size_t axes = 0;
+  for (std::size_t n = 0; n < is_axis.size(); ++n) {
+    is_axis[n] = layout.properties[n] == "x" || layout.properties[n] == "y" || layout.properties[n] == "z";
+    axes += is_axis[n] ? 1 : 0;
+  }
+  std::string line;
+  for (std::uint64_t vertex = 0; vertex < layout.count && std::getline(in, line); ++vertex) {
+    const char* at = line.c_str();
+    for (std::size_t word = 0, checked = 0; checked < axes; ++word) {
+      at = skipBlanks(at);
+      if (*at == '\0') return failure("vertex " + std::to_string(vertex) + " has fewer values than properties");
+      const char* end = at;
+      while (*end != '\0' && !blank(*end))
+        ++end;
+      if (is_axis[word] && !finiteNumber(at, end))
+        return failure("vertex " + std::to_string(vertex) + " has coordinate '" +
+                       std::string(at, std::min<std::size_t>(std::size_t(end - at), 24)) + "', not a finite number");
+      checked += is_axis[word] ? 1 : 0;
+      at = end;
+    }
+  }
+  return BakeStatus::success();
+}
+
 } // namespace
 
 // OpenMesh 9.0's PLY reader trusts its header: a malformed element count made it spin for 85 s and
@@ -130,13 +190,18 @@ BakeStatus checkPlyHeader(const std::string& path) {
   };
   std::string line;
   bool seen_element = false;
+  PlyLayout layout;
   for (int n = 1; n <= 1000 && std::getline(in, line); ++n) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (n == 1 && line != "ply") return failure("does not start with 'ply'");
     if (n == 1) continue;
-    if (line == "end_header") return BakeStatus::success();
+    if (line == "end_header")
+      return checkPlyVertices(in, layout, [&](const std::string& why) {
+        return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': PLY " + why);
+      });
     const std::string problem = plyLineProblem(line, size, &seen_element);
     if (!problem.empty()) return failure("line " + std::to_string(n) + " '" + line + "' " + problem);
+    notePlyLine(line, &layout);
   }
   return failure("has no end_header line in its first 1000 lines");
 }
@@ -239,12 +304,19 @@ BakeStatus checkStlCoordinates(const std::string& path) {
   in.clear();
   in.seekg(0);
   std::string line;
+  std::uint64_t open_facet = 0; // the line of a facet not closed yet
   for (std::uint64_t number = 1; std::getline(in, line); ++number) {
     const char* rest = nullptr;
-    if (firstWord(line, &rest) != "vertex") continue;
+    const std::string keyword = firstWord(line, &rest);
+    if (keyword == "facet") open_facet = number;
+    if (keyword == "endfacet") open_facet = 0;
+    if (keyword != "vertex") continue;
     const std::string problem = coordinateProblem(rest);
     if (!problem.empty()) return failure("line " + std::to_string(number) + ": vertex", problem);
   }
+  // OpenMesh drops a facet cut short, and a file cut in its first facet read as "no faces".
+  if (open_facet != 0)
+    return failure("line " + std::to_string(open_facet) + ": facet", "has no 'endfacet': the file is truncated");
   return BakeStatus::success();
 }
 

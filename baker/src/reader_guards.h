@@ -10,7 +10,8 @@ namespace dng {
 namespace baker {
 
 /// kInvalidInput unless every PLY header element count is a plain number the file is large enough to
-/// hold. OpenMesh trusts the counts: "element vertex banana" made it spin for 85 s and then throw.
+/// hold (OpenMesh trusts the counts: "element vertex banana" made it spin for 85 s and then throw), and,
+/// in an ASCII file whose first element is its vertices, each vertex's x, y and z are finite numbers.
 BakeStatus checkPlyHeader(const std::string& path);
 
 /// kInvalidInput unless an ASCII OFF file's vertex and face counts are plain numbers the file can
