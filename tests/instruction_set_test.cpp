@@ -6,6 +6,7 @@
 #include "dng/format/writer.h"
 #include "dng/instruction_set.h"
 #include "dng/particles.h"
+#include "swarm.h"
 
 #include <gtest/gtest.h>
 
@@ -242,13 +243,7 @@ struct Swarm {
   std::vector<std::uint8_t> contact;
   std::vector<std::int32_t> body;
   ParticleSpan span() {
-    ParticleSpan s;
-    s.position_x = &particles[0].position[0], s.position_y = &particles[0].position[1];
-    s.position_z = &particles[0].position[2];
-    s.velocity_x = &particles[0].velocity[0], s.velocity_y = &particles[0].velocity[1];
-    s.velocity_z = &particles[0].velocity[2];
-    s.position_stride = s.velocity_stride = sizeof(Particle);
-    s.count = particles.size();
+    ParticleSpan s = testing::structSpan(&particles);
     s.out_contact = contact.data();
     s.out_body = body.data();
     return s;

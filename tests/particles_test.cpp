@@ -333,11 +333,7 @@ TEST(Step, ArrayOfStructuresStridesGiveTheSameResult) {
   std::vector<Particle> aos(soa.size());
   for (std::size_t n = 0; n < soa.size(); ++n)
     aos[n] = {{soa.px[n], soa.py[n], soa.pz[n]}, 0.0f, {soa.vx[n], soa.vy[n], soa.vz[n]}, 1.0f};
-  ParticleSpan span;
-  span.position_x = &aos[0].position[0], span.position_y = &aos[0].position[1], span.position_z = &aos[0].position[2];
-  span.velocity_x = &aos[0].velocity[0], span.velocity_y = &aos[0].velocity[1], span.velocity_z = &aos[0].velocity[2];
-  span.position_stride = span.velocity_stride = sizeof(Particle);
-  span.count = aos.size();
+  const ParticleSpan span = testing::structSpan(&aos);
   for (int step = 0; step < 20; ++step) {
     ASSERT_EQ(stepParticles(soa.span(), kDt, &body, 1), Status::kOk);
     ASSERT_EQ(stepParticles(span, kDt, &body, 1), Status::kOk);
@@ -518,13 +514,7 @@ TEST(Forces, PackedAndStridedSpansGiveTheSameVelocities) {
     packed.add(p, v);
     structs.push_back({{p.x, p.y, p.z}, 0.0f, {v.x, v.y, v.z}, 0.0f});
   }
-  ParticleSpan strided;
-  strided.position_x = &structs[0].position[0], strided.position_y = &structs[0].position[1];
-  strided.position_z = &structs[0].position[2];
-  strided.velocity_x = &structs[0].velocity[0], strided.velocity_y = &structs[0].velocity[1];
-  strided.velocity_z = &structs[0].velocity[2];
-  strided.position_stride = strided.velocity_stride = sizeof(Particle);
-  strided.count = structs.size();
+  const ParticleSpan strided = testing::structSpan(&structs);
   for (const ParticleSpan& span : {packed.span(), strided}) {
     ASSERT_EQ(applyGravity(span, {0.5f, -9.81f, 0.25f}, 0.016f), Status::kOk);
     ASSERT_EQ(applyAirDrag(span, {1.0f, 2.0f, -3.0f}, 0.7f, 0.016f), Status::kOk);

@@ -24,6 +24,18 @@ struct Swarm {
   ParticleSpan span();
 };
 
+/// A span over an array of particle structs (an engine's layout) with `position[3]` and `velocity[3]`
+/// members: strided, whatever else the struct holds between them. `particles` must not be empty.
+template <class Particle> ParticleSpan structSpan(std::vector<Particle>* particles) {
+  Particle& first = particles->front();
+  ParticleSpan s;
+  s.position_x = &first.position[0], s.position_y = &first.position[1], s.position_z = &first.position[2];
+  s.velocity_x = &first.velocity[0], s.velocity_y = &first.velocity[1], s.velocity_z = &first.velocity[2];
+  s.position_stride = s.velocity_stride = sizeof(Particle);
+  s.count = particles->size();
+  return s;
+}
+
 } // namespace testing
 
 } // namespace dng
