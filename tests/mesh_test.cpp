@@ -69,12 +69,13 @@ TEST_F(MeshTest, ClosedCubeFromObjIsTriangulatedAndClosed) {
 }
 
 // The PLY guard checks x, y and z by name among a vertex's properties: others before or between them
-// are not coordinates (a confidence of 1e39, beyond a float, is not the guard's business).
+// are not coordinates (a confidence of 1e39, beyond a float, is not the guard's business). Like the
+// reader, it takes blank lines and a vertex broken over two lines as space.
 TEST_F(MeshTest, PlyVerticesWithMorePropertiesThanCoordinatesLoad) {
   const std::string ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float confidence\nproperty float x\n"
                           "property float y\nproperty uchar flags\nproperty float z\nelement face 4\n"
                           "property list uchar int vertex_indices\nend_header\n"
-                          "-7 0 0 200 0\n1e39 1 0 0 0\n2 0 1 1 0\n3 0 0 9 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+                          "\n-7 0 0 200 0\n\n1e39 1 0\n0 0\n2 0 1 1 0\n3 0 0 9 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
   const TriangleSoup soup = load(write("tetra.ply", ply));
   EXPECT_EQ(checkMesh(soup).triangles, 4u);
   EXPECT_TRUE(checkMesh(soup).closed());

@@ -51,8 +51,8 @@ std::string coordinateProblem(const char* at) {
     at = skipBlanks(at);
     if (*at == '\0' || *at == '#') return "has fewer than 3 coordinates";
     char* end = nullptr;
-    const double value = std::strtod(at, &end);
-    if (end == at || !(*end == '\0' || *end == '#' || blank(*end)) || !std::isfinite(float(value))) {
+    const float value = std::strtof(at, &end); // infinite when beyond a float, as the readers' floats
+    if (end == at || !(*end == '\0' || *end == '#' || blank(*end)) || !std::isfinite(value)) {
       const char* stop = at;
       while (*stop != '\0' && !blank(*stop) && stop - at < 24)
         ++stop;
@@ -143,35 +143,46 @@ void notePlyLine(const std::string& line, PlyLayout* io) {
 // Whether the word [begin, end) is a whole number that is finite as a float.
 bool finiteNumber(const char* begin, const char* end) {
   char* stop = nullptr;
-  const double value = std::strtod(begin, &stop);
-  return stop == end && end != begin && std::isfinite(float(value));
+  const float value = std::strtof(begin, &stop);
+  return stop == end && end != begin && std::isfinite(value);
+}
+
+// The next word of `in` across lines (blank lines and line breaks are only space to a PLY reader),
+// read in place in *io_line from *io_at. False at the end of the file.
+bool nextWord(std::istream& in, std::string* io_line, const char** io_at, const char** out_begin,
+              const char** out_end) {
+  for (;;) {
+    const char* at = skipBlanks(*io_at);
+    if (*at != '\0') {
+      const char* end = at;
+      while (*end != '\0' && !blank(*end))
+        ++end;
+      *out_begin = at, *out_end = *io_at = end;
+      return true;
+    }
+    if (!std::getline(in, *io_line)) return false;
+    *io_at = io_line->c_str();
+  }
 }
 
 // ASCII vertices, when they are the first element: x, y and z must be finite numbers. OpenMesh's
 // reader stops at "nan" and the bake failed as "the mesh has no faces". Words are read in place, as
-// the other text guards read theirs.
+// the other text guards read theirs, and across lines, as the reader reads them.
 template <class Failure> BakeStatus checkPlyVertices(std::istream& in, const PlyLayout& layout, Failure failure) {
   if (!layout.ascii || layout.first != "vertex" || layout.has_list) return BakeStatus::success();
   std::vector<bool> is_axis(layout.properties.size());
-  std::size_t axes = 0;
-  for (std::size_t n = 0; n < is_axis.size(); ++n) {
+  for (std::size_t n = 0; n < is_axis.size(); ++n)
     is_axis[n] = layout.properties[n] == "x" || layout.properties[n] == "y" || layout.properties[n] == "z";
-    axes += is_axis[n] ? 1 : 0;
-  }
   std::string line;
-  for (std::uint64_t vertex = 0; vertex < layout.count && std::getline(in, line); ++vertex) {
-    const char* at = line.c_str();
-    for (std::size_t word = 0, checked = 0; checked < axes; ++word) {
-      at = skipBlanks(at);
-      if (*at == '\0') return failure("vertex " + std::to_string(vertex) + " has fewer values than properties");
-      const char* end = at;
-      while (*end != '\0' && !blank(*end))
-        ++end;
-      if (is_axis[word] && !finiteNumber(at, end))
+  const char* at = line.c_str();
+  for (std::uint64_t vertex = 0; vertex < layout.count; ++vertex) {
+    for (std::size_t property = 0; property < is_axis.size(); ++property) {
+      const char *begin = nullptr, *end = nullptr;
+      if (!nextWord(in, &line, &at, &begin, &end)) return BakeStatus::success(); // short: the reader's to say
+      if (is_axis[property] && !finiteNumber(begin, end))
         return failure("vertex " + std::to_string(vertex) + " has coordinate '" +
-                       std::string(at, std::min<std::size_t>(std::size_t(end - at), 24)) + "', not a finite number");
-      checked += is_axis[word] ? 1 : 0;
-      at = end;
+                       std::string(begin, std::min<std::size_t>(std::size_t(end - begin), 24)) +
+                       "', not a finite number");
     }
   }
   return BakeStatus::success();

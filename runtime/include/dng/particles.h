@@ -13,6 +13,9 @@ namespace dng {
 /// Caller-owned particle data, structure-of-arrays or array-of-structures alike: particle n's x
 /// position is at byte offset n * position_stride from position_x, and so on. Strides are in bytes,
 /// multiples of 4 (4 for packed SoA arrays, sizeof(YourParticle) for AoS). Positions and velocities are world-frame.
+/// No two particles' numbers may share a float (e.g. x of one particle is never y of another): the
+/// SIMD step writes whole registers of one coordinate at a time, so overlapping arrays give results
+/// that differ from the scalar path's (only the span's own floats are ever written).
 struct ParticleSpan {
   float* position_x = nullptr;
   float* position_y = nullptr;
