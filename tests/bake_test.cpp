@@ -705,6 +705,9 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   std::ofstream(path("misspelt.ply")) << "ply\nformat ascii 1.0\neLement vertex 3\nproperty float x\nend_header\n";
   // OpenMesh's OFF reader took a negative face count as a huge one and kept reading: fuzzing.
   std::ofstream(path("negative.off")) << "OFF\n 0  -1 2\n";
+  // OpenMesh reads the counts after the keyword's line: here from the vertex line, 3 * 10^11 vertices
+  // (it read for ever; fuzzing).
+  std::ofstream(path("keyword_line.off")) << "OFF 1 0\n300999999990 0\n1 0 01 , ";
   std::ofstream(path("mesh.xyzw")) << "nope";
   std::ofstream(path("mesh.fbx")) << "nope"; // assimp reads FBX: a broken one is invalid input
   std::ofstream(path("keep.dng")) << "previous contents";
@@ -737,6 +740,7 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("no_index.obj"), 3, "line 4: face vertex '/1' has no vertex index"},
       {path("misspelt.ply"), 3, "line 3 'eLement vertex 3' has an unknown keyword"},
       {path("negative.off"), 3, "count '-1' is not a number"},
+      {path("keyword_line.off"), 3, "has its counts on the keyword's line: OpenMesh reads them from the next line"},
       {path("good.obj") + " --mode sideways", 1, "sideways"},
       {path("good.obj") + " --resolution 4", 1, "resolution"},
       {path("good.obj") + " --resolution 2000 --encoding dense", 1, "at most 134,217,728"},

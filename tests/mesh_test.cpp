@@ -87,6 +87,28 @@ TEST_F(MeshTest, PlyVerticesWithMorePropertiesThanCoordinatesLoad) {
   EXPECT_NE(s.message.find("vertex 3 has coordinate 'nan'"), std::string::npos) << s.message;
 }
 
+// A face vertex without its index makes OpenMesh's OBJ reader abort, even after a NUL byte in the line.
+TEST_F(MeshTest, ObjFaceVertexWithoutIndexAfterANulIsRefused) {
+  const char kObj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 \0 /1\n";
+  const std::string obj(kObj, sizeof kObj - 1); // with the NUL
+  TriangleSoup soup;
+  const BakeStatus s = loadMesh(write("nul.obj", obj), &soup);
+  EXPECT_EQ(s.code, BakeError::kInvalidInput);
+  EXPECT_NE(s.message.find("face vertex '/1' has no vertex index"), std::string::npos) << s.message;
+}
+
+// OFF counts are the three words after the keyword's line, on one line or several, as OpenMesh reads
+// them; a comment where they belong is not one.
+TEST_F(MeshTest, OffCountsAreTheWordsAfterTheKeywordLine) {
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  EXPECT_EQ(checkMesh(load(write("split.off", "OFF\n4\n4 0\n" + body))).triangles, 4u);
+  EXPECT_EQ(checkMesh(load(write("blank.off", "OFF\n\n4 4 0\n" + body))).triangles, 4u);
+  TriangleSoup soup;
+  const BakeStatus comment = loadMesh(write("comment.off", "OFF\n# made by hand\n4 4 0\n" + body), &soup);
+  EXPECT_EQ(comment.code, BakeError::kInvalidInput);
+  EXPECT_NE(comment.message.find("count '#' is not a number"), std::string::npos) << comment.message;
+}
+
 TEST_F(MeshTest, EveryFormatGivesTheSameCube) {
   std::string off = "OFF\n8 6 0\n", ply, stl = "solid cube\n";
   for (const auto& v : kCubeVertices)

@@ -257,7 +257,7 @@ BakeStatus checkOffHeader(const std::string& path) {
   std::getline(in, first_line);
   // No "OFF" at all: not an OFF file (OpenMesh's reader refused it as if it could not read it, an I/O
   // error, where the other formats' garbage is invalid input). Anything else must be one of the
-  // variants [ST][C][N][4][n]OFF [BINARY], the counts after it.
+  // variants [ST][C][N][4][n]OFF [BINARY], alone on its line.
   if (first_line.find("OFF") == std::string::npos)
     return failure(size == 0 ? "file is empty" : "file has no OFF keyword on its first line");
   std::istringstream words(first_line);
@@ -265,16 +265,21 @@ BakeStatus checkOffHeader(const std::string& path) {
   words >> keyword >> binary;
   if (!isOffVariant(keyword) || (!binary.empty() && binary != "BINARY" && !isCount(binary)))
     return failure("header '" + first_line.substr(0, 40) + "' is not OFF, COFF, NOFF, STOFF, 4OFF or nOFF");
+  // OpenMesh reads the counts after the keyword's line: on it, they went unread ("no faces"), and the
+  // guard, reading them there, had passed a file whose counts OpenMesh took from the vertices (a count
+  // of 3 * 10^11 kept it reading for ever: found by fuzzing).
+  if (isCount(binary))
+    return failure("header '" + first_line.substr(0, 40) + "' has its counts on the keyword's line: OpenMesh " +
+                   "reads them from the next line");
   // Binary OFF and the n-dimensional variant lay out what follows differently; leave them to the reader.
   if (binary == "BINARY" || keyword.find('n') != std::string::npos) return BakeStatus::success();
+  // The next three words, across lines, as OpenMesh reads them (a comment there is not a count to it).
   std::vector<std::string> counts;
-  std::string line = first_line.substr(keyword.size());
-  do { // the counts may follow the magic on its line or come on the next ones
-    std::istringstream numbers(line.substr(0, line.find('#')));
-    for (std::string word; counts.size() < 3 && numbers >> word;)
-      counts.push_back(word);
-  } while (counts.size() < 3 && std::getline(in, line));
+  for (std::string word; counts.size() < 3 && in >> word;)
+    counts.push_back(word);
   if (counts.size() < 3) return failure("header does not give vertex, face and edge counts");
+  std::string rest_of_line;
+  std::getline(in, rest_of_line);
   for (std::size_t n = 0; n < 3; ++n) {
     if (!isCount(counts[n])) return failure("header count '" + counts[n] + "' is not a number");
   }
@@ -354,7 +359,9 @@ BakeStatus checkObjLines(const std::string& path) {
                                    "'" + path + "': line " + std::to_string(number) + ": vertex " + problem);
     }
     if (keyword != "f") continue;
-    std::istringstream words(rest);
+    // The whole rest of the line, NUL bytes and all, as OpenMesh's reader sees it: from `rest` as a C
+    // string the words after a NUL went unchecked, and a '/1' there made the reader abort (fuzzing).
+    std::istringstream words(std::string(rest, line.c_str() + line.size()));
     for (std::string vertex; words >> vertex;) {
       if (vertex.front() == '/')
         return BakeStatus::failure(BakeError::kInvalidInput,
