@@ -97,6 +97,20 @@ TEST_F(MeshTest, ObjFaceVertexWithoutIndexAfterANulIsRefused) {
   EXPECT_NE(s.message.find("face vertex '/1' has no vertex index"), std::string::npos) << s.message;
 }
 
+// OpenMesh reads OFF faces as one stream of words: a face may go on over a line end, or follow a face
+// of no vertices on its line. The guard reads them so, and refuses a valence no file could hold.
+TEST_F(MeshTest, OffFacesAreAStreamOfWords) {
+  const std::string head = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  EXPECT_EQ(checkMesh(load(write("wrapped.off", head + "3 0 2 1 3\n0 1 3\n"))).triangles, 2u);
+  TriangleSoup soup;
+  const BakeStatus huge = loadMesh(write("huge.off", head + "0 99999999999999999949 0 1\n"), &soup);
+  EXPECT_EQ(huge.code, BakeError::kInvalidInput);
+  EXPECT_NE(huge.message.find("face 1 claims '99999999999999999949' vertices"), std::string::npos) << huge.message;
+  const BakeStatus cut = loadMesh(write("cut.off", head + "3 0 2 1\n3 0 1\n"), &soup);
+  EXPECT_EQ(cut.code, BakeError::kInvalidInput);
+  EXPECT_NE(cut.message.find("face 1 claims 3 vertices and the file ends after 2"), std::string::npos) << cut.message;
+}
+
 // OFF counts are the three words after the keyword's line, on one line or several, as OpenMesh reads
 // them; a comment where they belong is not one.
 TEST_F(MeshTest, OffCountsAreTheWordsAfterTheKeywordLine) {

@@ -217,11 +217,15 @@ BakeStatus checkPlyHeader(const std::string& path) {
   return failure("has no end_header line in its first 1000 lines");
 }
 
-// Each vertex line must start with three finite coordinates, and each face line must list as many
-// indices as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge
-// number) and tried to allocate 2 GB (found by fuzzing).
+// Each vertex line must start with three finite coordinates, and each face must list as many indices
+// as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge number) and
+// tried to allocate 2 GB (found by fuzzing). OpenMesh reads a vertex per line but the faces as one
+// stream of words, line ends included (a face's valence may follow another face's indices on its
+// line), so the faces are checked the same way: read line by line, a valence after a face of valence
+// 0 had passed unchecked and made it allocate 2 GB (fuzzing).
 template <class Failure>
-BakeStatus checkOffBody(std::istream& in, std::uint64_t vertices, std::uint64_t faces, Failure failure) {
+BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces,
+                        Failure failure) {
   std::string line;
   for (std::uint64_t vertex = 0; vertex < vertices && std::getline(in, line);) {
     const std::size_t first = line.find_first_not_of(" \t\r");
@@ -230,17 +234,19 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t vertices, std::uint64_t 
     if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
     ++vertex;
   }
-  for (std::uint64_t face = 0; face < faces && std::getline(in, line);) {
-    std::istringstream words(line.substr(0, line.find('#')));
-    std::string valence;
-    if (!(words >> valence)) continue; // blank or comment
+  std::string valence, index;
+  for (std::uint64_t face = 0; face < faces && in >> valence; ++face) {
+    // At least a digit and a space per index.
+    if (!isCount(valence) || std::stoull(valence) > size / 2)
+      return failure("face " + std::to_string(face) + " claims '" + valence.substr(0, 20) +
+                     "' vertices, not a count of indices the file can hold");
+    const std::uint64_t claimed = std::stoull(valence);
     std::uint64_t listed = 0;
-    for (std::string index; words >> index;)
+    while (listed < claimed && in >> index)
       ++listed;
-    if (!isCount(valence) || std::stoull(valence) > listed)
-      return failure("face " + std::to_string(face) + " claims " + valence.substr(0, 20) + " vertices and lists " +
+    if (listed < claimed)
+      return failure("face " + std::to_string(face) + " claims " + valence + " vertices and the file ends after " +
                      std::to_string(listed));
-    ++face;
   }
   return BakeStatus::success();
 }
@@ -288,7 +294,7 @@ BakeStatus checkOffHeader(const std::string& path) {
   if (vertices > size / 6 || faces > size / 2)
     return failure("header counts " + counts[0] + " " + counts[1] + " are impossible in a file of " +
                    std::to_string(size) + " bytes");
-  return checkOffBody(in, vertices, faces, failure);
+  return checkOffBody(in, size, vertices, faces, failure);
 }
 
 BakeStatus checkStlCoordinates(const std::string& path) {
