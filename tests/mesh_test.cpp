@@ -106,6 +106,11 @@ TEST_F(MeshTest, OffFacesAreAStreamOfWords) {
   const BakeStatus huge = loadMesh(write("huge.off", head + "0 99999999999999999949 0 1\n"), &soup);
   EXPECT_EQ(huge.code, BakeError::kInvalidInput);
   EXPECT_NE(huge.message.find("face 1 claims '99999999999999999949' vertices"), std::string::npos) << huge.message;
+  // No vertices: the faces begin on the counts' line, where OpenMesh goes on reading.
+  const BakeStatus same_line = loadMesh(write("same_line.off", "OFF\n0 2 0 0 77777777777777777777\n"), &soup);
+  EXPECT_EQ(same_line.code, BakeError::kInvalidInput);
+  EXPECT_NE(same_line.message.find("face 1 claims '77777777777777777777' vertices"), std::string::npos)
+      << same_line.message;
   const BakeStatus cut = loadMesh(write("cut.off", head + "3 0 2 1\n3 0 1\n"), &soup);
   EXPECT_EQ(cut.code, BakeError::kInvalidInput);
   EXPECT_NE(cut.message.find("face 1 claims 3 vertices and the file ends after 2"), std::string::npos) << cut.message;

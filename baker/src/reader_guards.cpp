@@ -284,8 +284,8 @@ BakeStatus checkOffHeader(const std::string& path) {
   for (std::string word; counts.size() < 3 && in >> word;)
     counts.push_back(word);
   if (counts.size() < 3) return failure("header does not give vertex, face and edge counts");
-  std::string rest_of_line;
-  std::getline(in, rest_of_line);
+  // The rest of the counts' line is not skipped: OpenMesh goes on reading there too (with no vertices,
+  // its faces begin there: fuzzing).
   for (std::size_t n = 0; n < 3; ++n) {
     if (!isCount(counts[n])) return failure("header count '" + counts[n] + "' is not a number");
   }
