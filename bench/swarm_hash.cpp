@@ -25,6 +25,7 @@
 #include "dng/file.h"
 #include "dng/instruction_set.h"
 #include "dng/particles.h"
+#include "swarm.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -123,12 +124,7 @@ void fromStructs(const std::vector<ParticleStruct>& in, Swarm* io) {
   }
 }
 ParticleSpan structSpan(std::vector<ParticleStruct>* particles, std::int32_t* body) {
-  ParticleStruct* first = particles->data();
-  ParticleSpan s;
-  s.position_x = &first->position[0], s.position_y = &first->position[1], s.position_z = &first->position[2];
-  s.velocity_x = &first->velocity[0], s.velocity_y = &first->velocity[1], s.velocity_z = &first->velocity[2];
-  s.position_stride = s.velocity_stride = sizeof(ParticleStruct);
-  s.count = particles->size();
+  ParticleSpan s = testing::structSpan(particles);
   s.out_body = body;
   return s;
 }

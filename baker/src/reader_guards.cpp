@@ -32,6 +32,19 @@ const char* skipBlanks(const char* at) {
   return at;
 }
 
+// Where the word at `at` ends: at a blank or the end of the line.
+const char* wordEnd(const char* at) {
+  while (*at != '\0' && !blank(*at))
+    ++at;
+  return at;
+}
+
+// What the guards say of a coordinate that is not a finite number: its word, cut at 24 characters.
+std::string notFinite(const char* begin, const char* end) {
+  return "has coordinate '" + std::string(begin, std::min<std::size_t>(std::size_t(end - begin), 24)) +
+         "', not a finite number";
+}
+
 // A text line's first word, lower-cased (STL keywords may be upper case), and where the rest begins.
 // In place: the guards read every line of files of millions of lines before OpenMesh reads them again.
 std::string firstWord(const std::string& line, const char** out_rest) {
@@ -52,12 +65,8 @@ std::string coordinateProblem(const char* at) {
     if (*at == '\0' || *at == '#') return "has fewer than 3 coordinates";
     char* end = nullptr;
     const float value = std::strtof(at, &end); // infinite when beyond a float, as the readers' floats
-    if (end == at || !(*end == '\0' || *end == '#' || blank(*end)) || !std::isfinite(value)) {
-      const char* stop = at;
-      while (*stop != '\0' && !blank(*stop) && stop - at < 24)
-        ++stop;
-      return "has coordinate '" + std::string(at, stop) + "', not a finite number";
-    }
+    if (end == at || !(*end == '\0' || *end == '#' || blank(*end)) || !std::isfinite(value))
+      return notFinite(at, wordEnd(at));
     at = end;
   }
   return {};
@@ -154,10 +163,7 @@ bool nextWord(std::istream& in, std::string* io_line, const char** io_at, const 
   for (;;) {
     const char* at = skipBlanks(*io_at);
     if (*at != '\0') {
-      const char* end = at;
-      while (*end != '\0' && !blank(*end))
-        ++end;
-      *out_begin = at, *out_end = *io_at = end;
+      *out_begin = at, *out_end = *io_at = wordEnd(at);
       return true;
     }
     if (!std::getline(in, *io_line)) return false;
@@ -180,9 +186,7 @@ template <class Failure> BakeStatus checkPlyVertices(std::istream& in, const Ply
       const char *begin = nullptr, *end = nullptr;
       if (!nextWord(in, &line, &at, &begin, &end)) return BakeStatus::success(); // short: the reader's to say
       if (is_axis[property] && !finiteNumber(begin, end))
-        return failure("vertex " + std::to_string(vertex) + " has coordinate '" +
-                       std::string(begin, std::min<std::size_t>(std::size_t(end - begin), 24)) +
-                       "', not a finite number");
+        return failure("vertex " + std::to_string(vertex) + " " + notFinite(begin, end));
     }
   }
   return BakeStatus::success();
@@ -237,10 +241,10 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vert
   std::string valence, index;
   for (std::uint64_t face = 0; face < faces && in >> valence; ++face) {
     // At least a digit and a space per index.
-    if (!isCount(valence) || std::stoull(valence) > size / 2)
+    const std::uint64_t claimed = isCount(valence) ? std::stoull(valence) : UINT64_MAX;
+    if (claimed > size / 2)
       return failure("face " + std::to_string(face) + " claims '" + valence.substr(0, 20) +
                      "' vertices, not a count of indices the file can hold");
-    const std::uint64_t claimed = std::stoull(valence);
     std::uint64_t listed = 0;
     while (listed < claimed && in >> index)
       ++listed;
