@@ -709,6 +709,9 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
   // (it read for ever; fuzzing).
   std::ofstream(path("keyword_line.off")) << "OFF 1 0\n300999999990 0\n1 0 01 , ";
   std::ofstream(path("mesh.xyzw")) << "nope";
+  std::ofstream(path("mesh.om")) << "OMTB"; // OpenMesh's own format: its reader needs an OpenMesh mesh
+  // A binary OFF with big-endian counts: OpenMesh read them as 3 * 2^24 faces and read on for ever.
+  std::ofstream(path("big_endian.off")) << std::string("OFF BINARY\n\0\0\0\3\0\0\0\1\0\0\0\0", 23);
   std::ofstream(path("mesh.fbx")) << "nope"; // assimp reads FBX: a broken one is invalid input
   std::ofstream(path("keep.dng")) << "previous contents";
   struct Case {
@@ -720,6 +723,8 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("empty.obj"), 3, "no faces"},
       {path("absent.obj"), 2, "no such file"},
       {path("mesh.xyzw"), 5, "unknown mesh format"},
+      {path("mesh.om"), 5, "native .om format is not supported"},
+      {path("big_endian.off"), 3, "OFF binary header declares 50331648 vertices of 12 bytes"},
       {path("mesh.fbx"), 3, "assimp could not read it"},
       {path("nan.stl"), 3, "facet 0 has a NaN or infinite vertex coordinate"},
       {path("nan_text.stl"), 3, "line 6: vertex has coordinate 'nan', not a finite number"},

@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 namespace dng {
 namespace baker {
@@ -97,8 +100,9 @@ TEST_F(MeshTest, ObjFaceVertexWithoutIndexAfterANulIsRefused) {
   EXPECT_NE(s.message.find("face vertex '/1' has no vertex index"), std::string::npos) << s.message;
 }
 
-// OpenMesh reads OFF faces as one stream of words: a face may go on over a line end, or follow a face
-// of no vertices on its line. The guard reads them so, and refuses a valence no file could hold.
+// OpenMesh reads OFF faces as one stream of numbers: a face may go on over a line end, or follow a
+// face of no vertices on its line, and a number ends where its digits do. The guard reads them so, and
+// refuses a valence no file could hold.
 TEST_F(MeshTest, OffFacesAreAStreamOfWords) {
   const std::string head = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
   EXPECT_EQ(checkMesh(load(write("wrapped.off", head + "3 0 2 1 3\n0 1 3\n"))).triangles, 2u);
@@ -111,9 +115,87 @@ TEST_F(MeshTest, OffFacesAreAStreamOfWords) {
   EXPECT_EQ(same_line.code, BakeError::kInvalidInput);
   EXPECT_NE(same_line.message.find("face 1 claims '77777777777777777777' vertices"), std::string::npos)
       << same_line.message;
+  // OpenMesh reads "2-4" as the index 2, then -4, a valence of 4 * 10^9 to it (fuzzing).
+  const BakeStatus negative = loadMesh(write("negative.off", head + "3 0 1 2-4 0\n"), &soup);
+  EXPECT_EQ(negative.code, BakeError::kInvalidInput);
+  EXPECT_NE(negative.message.find("face 1 claims '-4' vertices"), std::string::npos) << negative.message;
+  const BakeStatus word = loadMesh(write("word.off", head + "3 0 1 two\n"), &soup);
+  EXPECT_EQ(word.code, BakeError::kInvalidInput);
+  EXPECT_NE(word.message.find("face 0 lists 'two', not a vertex index"), std::string::npos) << word.message;
   const BakeStatus cut = loadMesh(write("cut.off", head + "3 0 2 1\n3 0 1\n"), &soup);
   EXPECT_EQ(cut.code, BakeError::kInvalidInput);
   EXPECT_NE(cut.message.find("face 1 claims 3 vertices and the file ends after 2"), std::string::npos) << cut.message;
+}
+
+// A binary OFF as OpenMesh reads one: little-endian 32-bit counts, vertex records (three floats, three
+// more with N) and faces of a valence and its indices.
+std::string binaryOff(const std::string& keyword, std::uint32_t vertices, std::uint32_t faces,
+                      const std::vector<float>& vertex_floats, const std::vector<std::uint32_t>& face_words) {
+  std::string out = keyword + " BINARY\n";
+  const auto word = [&out](std::uint32_t w) {
+    for (int byte = 0; byte < 4; ++byte)
+      out += char((w >> (8 * byte)) & 0xFFu);
+  };
+  word(vertices), word(faces), word(0);
+  for (float f : vertex_floats) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    word(bits);
+  }
+  for (std::uint32_t w : face_words)
+    word(w);
+  return out;
+}
+
+// OpenMesh reads as many binary faces as the count says, past the end of the file: a count or valence
+// the file cannot hold kept it reading for ever. A binary OFF is checked as it reads one.
+TEST_F(MeshTest, BinaryOffCountsAndValencesMustFitTheFile) {
+  const std::vector<float> tetra{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const std::vector<std::uint32_t> faces{3, 0, 2, 1, 3, 0, 1, 3, 3, 0, 3, 2, 3, 1, 2, 3};
+  EXPECT_EQ(checkMesh(load(write("tetra.off", binaryOff("OFF", 4, 4, tetra, faces)))).triangles, 4u);
+  // With N each vertex carries its normal too: 24 bytes.
+  std::vector<float> with_normals;
+  for (std::size_t v = 0; v < 4; ++v) {
+    with_normals.insert(with_normals.end(), tetra.begin() + 3 * v, tetra.begin() + 3 * v + 3);
+    with_normals.insert(with_normals.end(), {0.0f, 0.0f, 1.0f});
+  }
+  EXPECT_EQ(checkMesh(load(write("normals.off", binaryOff("NOFF", 4, 4, with_normals, faces)))).triangles, 4u);
+  // And with ST and C, two texture coordinates and three colour words: 44 bytes.
+  std::vector<float> everything;
+  for (std::size_t v = 0; v < 4; ++v) {
+    everything.insert(everything.end(), with_normals.begin() + 6 * v, with_normals.begin() + 6 * v + 6);
+    everything.insert(everything.end(), {0.0f, 0.0f, 0.0f, 0.5f, 0.5f});
+  }
+  const TriangleSoup all = load(write("everything.off", binaryOff("STCNOFF", 4, 4, everything, faces)));
+  EXPECT_EQ(checkMesh(all).triangles, 4u);
+  ASSERT_EQ(all.vertices.size(), 4u);
+  EXPECT_EQ(all.vertices[3].z, 1.0f); // the records were read at the right size
+  TriangleSoup soup;
+  const BakeStatus big_endian =
+      loadMesh(write("big_endian.off", binaryOff("OFF", 4u << 24, 4u << 24, tetra, faces)), &soup);
+  EXPECT_EQ(big_endian.code, BakeError::kInvalidInput);
+  EXPECT_NE(big_endian.message.find("declares 67108864 vertices of 12 bytes"), std::string::npos) << big_endian.message;
+  const BakeStatus too_many = loadMesh(write("too_many.off", binaryOff("OFF", 4, 5, tetra, faces)), &soup);
+  EXPECT_EQ(too_many.code, BakeError::kInvalidInput);
+  EXPECT_NE(too_many.message.find("ends before face 4 of 5"), std::string::npos) << too_many.message;
+  std::vector<std::uint32_t> huge = faces;
+  huge[4] = 0xFFFFFFF0u; // the second face's valence
+  const BakeStatus valence = loadMesh(write("valence.off", binaryOff("OFF", 4, 4, tetra, huge)), &soup);
+  EXPECT_EQ(valence.code, BakeError::kInvalidInput);
+  EXPECT_NE(valence.message.find("face 1 claims 4294967280 vertices"), std::string::npos) << valence.message;
+}
+
+// OpenMesh's .om reader needs a whole OpenMesh mesh, which the soup importer is not: such files are
+// refused as unsupported, with what to do instead. (The bytes: a triangle as OpenMesh 9.0 writes it.)
+TEST_F(MeshTest, OpenMeshNativeFilesAreRefusedAsUnsupported) {
+  const unsigned char om[] = {0x4f, 0x4d, 0x54, 0x42, 0x03, 0, 0, 0, 0x01, 0, 0, 0, 0x03, 0, 0, 0,    0,
+                              0x16, 0,    0,    0,    0,    0, 0, 0, 0,    0, 0, 0, 0,    0, 0, 0x80, 0x3f};
+  TriangleSoup soup;
+  const BakeStatus s = loadMesh(write("triangle.om", std::string(reinterpret_cast<const char*>(om), sizeof om)), &soup);
+  EXPECT_EQ(s.code, BakeError::kUnsupported);
+  EXPECT_NE(s.message.find("native .om format is not supported: save the mesh as .obj, .off or .ply"),
+            std::string::npos)
+      << s.message;
 }
 
 // OFF counts are the three words after the keyword's line, on one line or several, as OpenMesh reads

@@ -23,7 +23,7 @@ CLI::Validator lengthUnit() {
 
 void addImportOptions(CLI::App& app, baker::BakeInputs& inputs) {
   app.add_option("inputs", inputs.paths,
-                 "mesh or scene files, baked into one field (.gltf .glb .obj .off .ply .stl .om, or any "
+                 "mesh or scene files, baked into one field (.gltf .glb .obj .off .ply .stl, or any "
                  "format assimp reads: .fbx .dae .3ds .blend ...)")
       ->required();
   app.add_option("--scene", inputs.import.scene, "scene files: the scene to bake (default: the file's default)")

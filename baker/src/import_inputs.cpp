@@ -71,10 +71,11 @@ BakeStatus importOne(const std::string& path, const ImportOptions& options, Tria
   out_report->path = path;
   out_report->format = lowerExtension(path);
   if (BakeStatus readable = checkReadable(path); !readable.ok()) return readable;
+  if (out_report->format == "om") return openMeshNativeRefused(path);
   const ImportFn importer = importerFor(path);
   if (importer == nullptr)
     return BakeStatus::failure(BakeError::kUnsupported, "'" + path + "': unknown mesh format '." + out_report->format +
-                                                            "' (use .gltf, .glb, .obj, .off, .ply, .stl, .om or "
+                                                            "' (use .gltf, .glb, .obj, .off, .ply, .stl or "
                                                             "a format assimp reads: .fbx, .dae, .3ds, .blend, ...)");
   const std::size_t first_vertex = io_soup->vertices.size();
   const BakeStatus status = importer(path, options, io_soup, out_report);
@@ -120,7 +121,7 @@ LengthUnit fieldUnit(const UnitOptions& units, const std::vector<ImportReport>& 
 
 ImportFn importerFor(const std::string& path) {
   const std::string ext = lowerExtension(path);
-  static const char* const kOpenMesh[] = {"obj", "off", "ply", "stl", "om"};
+  static const char* const kOpenMesh[] = {"obj", "off", "ply", "stl"};
   if (std::find(std::begin(kOpenMesh), std::end(kOpenMesh), ext) != std::end(kOpenMesh)) return &importOpenMesh;
   if (ext == "gltf" || ext == "glb") return &importGltf;
   return assimpReads(ext) ? &importAssimp : nullptr;

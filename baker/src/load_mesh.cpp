@@ -127,13 +127,22 @@ std::string lowerExtension(const std::string& path) {
 
 } // namespace
 
+// OpenMesh's .om reader needs a whole OpenMesh mesh to read into (it refused the soup importer, so no
+// .om file ever loaded here), and it asserts on malformed chunks, which would abort a bake.
+BakeStatus openMeshNativeRefused(const std::string& path) {
+  return BakeStatus::failure(BakeError::kUnsupported, "'" + path +
+                                                          "': OpenMesh's native .om format is not supported: save "
+                                                          "the mesh as .obj, .off or .ply (OpenMesh writes all three)");
+}
+
 BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   *out_soup = TriangleSoup();
   const std::string ext = lowerExtension(path);
-  static const char* const kSupported[] = {".obj", ".off", ".ply", ".stl", ".om"};
+  if (ext == ".om") return openMeshNativeRefused(path);
+  static const char* const kSupported[] = {".obj", ".off", ".ply", ".stl"};
   if (std::find(std::begin(kSupported), std::end(kSupported), ext) == std::end(kSupported))
     return BakeStatus::failure(BakeError::kUnsupported,
-                               "'" + path + "': unknown mesh format '" + ext + "' (use .obj, .off, .ply, .stl or .om)");
+                               "'" + path + "': unknown mesh format '" + ext + "' (use .obj, .off, .ply or .stl)");
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
     return BakeStatus::failure(BakeError::kIo, "'" + path + "': no such file");

@@ -221,12 +221,40 @@ BakeStatus checkPlyHeader(const std::string& path) {
   return failure("has no end_header line in its first 1000 lines");
 }
 
+namespace {
+
+// The next number as OpenMesh's `in >> unsigned` reads one: blanks (line ends too) skipped, then a sign
+// and the digits after it, the rest of the word left for the next read ("0-4" is 0, then -4). Empty
+// when no digit follows: the stream then fails, and so does every later read.
+std::string nextUnsigned(std::istream& in) {
+  in >> std::ws;
+  std::string number;
+  if (in.peek() == '+' || in.peek() == '-') number += char(in.get());
+  while (std::isdigit(in.peek()))
+    number += char(in.get());
+  return number.find_first_of("0123456789") == std::string::npos ? std::string() : number;
+}
+
+// What an unsigned read makes of `number` (nextUnsigned's): more than `limit` when it is above it,
+// negative (unsigned arithmetic makes -4 a count of 4 * 10^9) or beyond any integer.
+std::uint64_t unsignedValue(const std::string& number, std::uint64_t limit) {
+  const bool negative = number[0] == '-';
+  const std::string digits = number.substr(number[0] == '+' || negative ? 1 : 0);
+  const std::size_t first = std::min(digits.find_first_not_of('0'), digits.size());
+  if (first == digits.size()) return 0; // zero, with any sign
+  if (negative || digits.size() - first > 18) return limit + 1;
+  return std::stoull(digits.substr(first));
+}
+
+} // namespace
+
 // Each vertex line must start with three finite coordinates, and each face must list as many indices
 // as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge number) and
 // tried to allocate 2 GB (found by fuzzing). OpenMesh reads a vertex per line but the faces as one
-// stream of words, line ends included (a face's valence may follow another face's indices on its
-// line), so the faces are checked the same way: read line by line, a valence after a face of valence
-// 0 had passed unchecked and made it allocate 2 GB (fuzzing).
+// stream of numbers, line ends included (a face's valence may follow another face's indices on its
+// line), each read as far as its digits go, so the faces are checked the same way: read line by line,
+// a valence after a face of valence 0 had passed unchecked, and read word by word, an index "0-4" had
+// hidden the valence -4 that OpenMesh read after its 0; each made it allocate 2 GB (fuzzing).
 template <class Failure>
 BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces,
                         Failure failure) {
@@ -238,19 +266,86 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vert
     if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
     ++vertex;
   }
-  std::string valence, index;
-  for (std::uint64_t face = 0; face < faces && in >> valence; ++face) {
+  for (std::uint64_t face = 0; face < faces; ++face) {
+    in >> std::ws;
+    if (in.peek() == std::char_traits<char>::eof()) break; // short: no more faces, and OpenMesh reads none
+    const std::string valence = nextUnsigned(in);
     // At least a digit and a space per index.
-    const std::uint64_t claimed = isCount(valence) ? std::stoull(valence) : UINT64_MAX;
-    if (claimed > size / 2)
-      return failure("face " + std::to_string(face) + " claims '" + valence.substr(0, 20) +
+    if (valence.empty() || unsignedValue(valence, size / 2) > size / 2) {
+      in.clear();
+      std::string word;
+      in >> word;
+      return failure("face " + std::to_string(face) + " claims '" + (valence.empty() ? word : valence).substr(0, 20) +
                      "' vertices, not a count of indices the file can hold");
-    std::uint64_t listed = 0;
-    while (listed < claimed && in >> index)
-      ++listed;
-    if (listed < claimed)
-      return failure("face " + std::to_string(face) + " claims " + valence + " vertices and the file ends after " +
-                     std::to_string(listed));
+    }
+    const std::uint64_t claimed = unsignedValue(valence, size / 2);
+    for (std::uint64_t listed = 0; listed < claimed; ++listed) {
+      in >> std::ws;
+      if (in.peek() == std::char_traits<char>::eof())
+        return failure("face " + std::to_string(face) + " claims " + valence + " vertices and the file ends after " +
+                       std::to_string(listed));
+      if (nextUnsigned(in).empty()) {
+        in.clear();
+        std::string word;
+        in >> word;
+        return failure("face " + std::to_string(face) + " lists '" + word.substr(0, 20) + "', not a vertex index");
+      }
+    }
+  }
+  return BakeStatus::success();
+}
+
+namespace {
+
+// A little-endian 32-bit word from `in`; false at the end of the file.
+bool readLittle32(std::istream& in, std::uint32_t* out) {
+  unsigned char b[4];
+  if (!in.read(reinterpret_cast<char*>(b), sizeof b)) return false;
+  *out = std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24;
+  return true;
+}
+
+// Whether OpenMesh reads an OFF file whose first line is `line`, keyword `keyword`, as binary: it
+// looks for BINARY exactly one character after the keyword (so "OFF  BINARY" is read as text).
+bool openMeshReadsBinary(const std::string& line, const std::string& keyword) {
+  return line.compare(0, keyword.size(), keyword) == 0 && line.size() >= keyword.size() + 7 &&
+         line.compare(keyword.size() + 1, 6, "BINARY") == 0;
+}
+
+} // namespace
+
+// A binary OFF after its keyword's line, as OpenMesh 9.0 reads one (with the baker's reading options):
+// little-endian 32-bit counts of vertices, faces and edges; each vertex three floats, then three more
+// for N, three 32-bit colour words for C and two floats for ST; each face a 32-bit valence and as
+// many indices. The reader reads as many faces as the count says, end of file or not: a count or a
+// valence the file cannot hold kept it reading for ever (found seeding the fuzzer with a binary OFF).
+template <class Failure>
+BakeStatus checkOffBinary(std::istream& in, std::uint64_t size, const std::string& keyword, Failure failure) {
+  const std::string prefix = keyword.substr(0, keyword.size() - 3);
+  const std::uint64_t record = 12 + (prefix.find('N') != std::string::npos ? 12 : 0) +
+                               (prefix.find('C') != std::string::npos ? 12 : 0) + (prefix.rfind("ST", 0) == 0 ? 8 : 0);
+  std::uint32_t vertices = 0, faces = 0, edges = 0;
+  if (!readLittle32(in, &vertices) || !readLittle32(in, &faces) || !readLittle32(in, &edges))
+    return failure("binary file ends before its vertex, face and edge counts");
+  std::uint64_t left = size - std::uint64_t(in.tellg());
+  if (vertices > left / record)
+    return failure("binary header declares " + std::to_string(vertices) + " vertices of " + std::to_string(record) +
+                   " bytes, more than the " + std::to_string(left) + " bytes after it");
+  left -= vertices * record;
+  if (faces > left / 4)
+    return failure("binary header declares " + std::to_string(faces) + " faces, more than the " + std::to_string(left) +
+                   " bytes after the vertices can hold");
+  in.seekg(std::streamoff(vertices * record), std::ios::cur);
+  for (std::uint32_t face = 0; face < faces; ++face) {
+    std::uint32_t valence = 0;
+    if (!readLittle32(in, &valence))
+      return failure("binary file ends before face " + std::to_string(face) + " of " + std::to_string(faces));
+    left -= 4;
+    if (valence > left / 4)
+      return failure("face " + std::to_string(face) + " claims " + std::to_string(valence) +
+                     " vertices, more than the file holds");
+    in.ignore(std::streamsize(valence) * 4);
+    left -= std::uint64_t(valence) * 4;
   }
   return BakeStatus::success();
 }
@@ -281,8 +376,9 @@ BakeStatus checkOffHeader(const std::string& path) {
   if (isCount(binary))
     return failure("header '" + first_line.substr(0, 40) + "' has its counts on the keyword's line: OpenMesh " +
                    "reads them from the next line");
-  // Binary OFF and the n-dimensional variant lay out what follows differently; leave them to the reader.
-  if (binary == "BINARY" || keyword.find('n') != std::string::npos) return BakeStatus::success();
+  // OpenMesh refuses the n-dimensional variants itself.
+  if (keyword.find('n') != std::string::npos) return BakeStatus::success();
+  if (openMeshReadsBinary(first_line, keyword)) return checkOffBinary(in, size, keyword, failure);
   // The next three words, across lines, as OpenMesh reads them (a comment there is not a count to it).
   std::vector<std::string> counts;
   for (std::string word; counts.size() < 3 && in >> word;)

@@ -44,10 +44,14 @@ struct TriangleSoup {
   std::vector<std::string> reader_messages; ///< what OpenMesh's reader reported, one line each
 };
 
-/// Loads OBJ, OFF, PLY, STL or OM with OpenMesh's readers. Errors: kIo when the file cannot be
-/// opened or parsed, kUnsupported for other extensions. Not thread-safe (OpenMesh's IO registry and
-/// log streams are global).
+/// Loads OBJ, OFF, PLY or STL with OpenMesh's readers. Errors: kIo when the file cannot be opened or
+/// parsed, kInvalidInput for what the reader guards refuse (reader_guards.h), kUnsupported for other
+/// extensions, OpenMesh's .om among them (openMeshNativeRefused). Not thread-safe (OpenMesh's IO
+/// registry and log streams are global).
 BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup);
+
+/// kUnsupported for `path`, an OpenMesh .om file, with what to do instead.
+BakeStatus openMeshNativeRefused(const std::string& path);
 
 MeshReport checkMesh(const TriangleSoup& soup);
 
