@@ -185,6 +185,48 @@ TEST_F(MeshTest, BinaryOffCountsAndValencesMustFitTheFile) {
   EXPECT_NE(valence.message.find("face 1 claims 4294967280 vertices"), std::string::npos) << valence.message;
 }
 
+// OpenMesh's PLY reader reads as many corners as a face's count says, end of file or not: an ASCII face
+// of 2 * 10^9 corners took 20 GB before it gave up, and a binary one the same. It reads lists only as a
+// face's vertex_indices, so other lists, and face properties before them, are refused.
+TEST_F(MeshTest, PlyCornerCountsMustFitTheFile) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 2\n";
+  const std::string corners = "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  EXPECT_EQ(checkMesh(load(write("two.ply", head + corners + "3 0 2 1\n3 0 1 3\n"))).triangles, 2u);
+  const auto refused = [&](const std::string& name, const std::string& text) {
+    TriangleSoup soup;
+    const BakeStatus s = loadMesh(write(name, text), &soup);
+    EXPECT_EQ(s.code, BakeError::kInvalidInput) << name;
+    return s.message;
+  };
+  EXPECT_NE(refused("huge.ply", head + corners + "3 0 2 1\n2000000000 0 1 3\n")
+                .find("face 1 claims '2000000000' corners, not a count the file can hold"),
+            std::string::npos);
+  EXPECT_NE(refused("negative.ply", head + corners + "-4 0 2 1\n").find("face 0 claims '-4' corners"),
+            std::string::npos);
+  EXPECT_NE(refused("glued.ply", head + corners + "3 0 2 1-4\n").find("face 0 lists '1-4', not a vertex index"),
+            std::string::npos);
+  EXPECT_NE(refused("cut.ply", head + corners + "3 0 2 1\n3 0 1\n").find("face 1 claims 3 corners and the file ends"),
+            std::string::npos);
+  EXPECT_NE(refused("texcoord.ply", head + "property list uchar int vertex_indices\nproperty list uchar float "
+                                           "texcoord\nend_header\n")
+                .find("element 'face' has the list property 'texcoord'"),
+            std::string::npos);
+  EXPECT_NE(refused("before.ply", head + "property uchar red\n" + corners).find("face property 'red' comes before"),
+            std::string::npos);
+  // Binary, big-endian: a count of -4 is 4 * 10^9 to the reader.
+  std::string binary = "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                       "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+  binary += std::string(36, '\0');                                      // three vertices at the origin
+  binary += std::string("\xff\xff\xff\xfc", 4) + std::string(12, '\0'); // a count of -4, three indices
+  EXPECT_NE(refused("negative_binary.ply", binary).find("face 0 claims 4294967292 corners, more than the 12 bytes"),
+            std::string::npos);
+  binary.replace(binary.size() - 16, 4, std::string("\0\0\0\3", 4));
+  TriangleSoup soup;
+  EXPECT_TRUE(loadMesh(write("binary.ply", binary), &soup).ok());
+  EXPECT_EQ(soup.polygons, 1u);
+}
+
 // OpenMesh's .om reader needs a whole OpenMesh mesh, which the soup importer is not: such files are
 // refused as unsupported, with what to do instead. (The bytes: a triangle as OpenMesh 9.0 writes it.)
 TEST_F(MeshTest, OpenMeshNativeFilesAreRefusedAsUnsupported) {

@@ -126,27 +126,33 @@ std::string plyLineProblem(const std::string& line, std::uint64_t file_size, boo
   return "has an unknown keyword '" + w[0] + "'";
 }
 
-// What the ASCII vertex check needs from a PLY header: the format, and the first element's name, count
-// and properties (the word of each scalar property on a line; lists make the words' places vary).
-struct PlyLayout {
-  bool ascii = false;
-  int elements = 0;
-  std::string first;
+// A PLY header as the body checks need it: the format, and each element's name, count and properties.
+struct PlyProperty {
+  std::string name, type, count_type; ///< count_type: lists only
+  bool list = false;
+};
+struct PlyElement {
+  std::string name;
   std::uint64_t count = 0;
-  std::vector<std::string> properties;
-  bool has_list = false;
+  std::vector<PlyProperty> properties;
+};
+struct PlyLayout {
+  std::string format;
+  std::vector<PlyElement> elements;
 };
 
 // Notes a well-formed header line (plyLineProblem found nothing wrong with it) in `io`.
 void notePlyLine(const std::string& line, PlyLayout* io) {
   std::istringstream words(line);
-  std::string keyword, a, b;
-  words >> keyword >> a >> b;
-  if (keyword == "format") io->ascii = a == "ascii";
-  if (keyword == "element" && ++io->elements == 1) io->first = a, io->count = std::stoull(b);
-  if (keyword != "property" || io->elements != 1) return;
-  if (a == "list") io->has_list = true;
-  io->properties.push_back(b);
+  std::string keyword, a, b, c, d;
+  words >> keyword >> a >> b >> c >> d;
+  if (keyword == "format") io->format = a;
+  if (keyword == "element") io->elements.push_back({a, std::stoull(b), {}});
+  if (keyword != "property") return;
+  PlyProperty p;
+  p.list = a == "list";
+  p.name = p.list ? d : b, p.type = p.list ? c : a, p.count_type = p.list ? b : "";
+  io->elements.back().properties.push_back(p);
 }
 
 // Whether the word [begin, end) is a whole number that is finite as a float.
@@ -171,23 +177,153 @@ bool nextWord(std::istream& in, std::string* io_line, const char** io_at, const 
   }
 }
 
-// ASCII vertices, when they are the first element: x, y and z must be finite numbers. OpenMesh's
-// reader stops at "nan" and the bake failed as "the mesh has no faces". Words are read in place, as
-// the other text guards read theirs, and across lines, as the reader reads them.
-template <class Failure> BakeStatus checkPlyVertices(std::istream& in, const PlyLayout& layout, Failure failure) {
-  if (!layout.ascii || layout.first != "vertex" || layout.has_list) return BakeStatus::success();
-  std::vector<bool> is_axis(layout.properties.size());
-  for (std::size_t n = 0; n < is_axis.size(); ++n)
-    is_axis[n] = layout.properties[n] == "x" || layout.properties[n] == "y" || layout.properties[n] == "z";
+bool isFloatType(const std::string& t) { return t == "float" || t == "float32" || t == "double" || t == "float64"; }
+
+std::size_t plyTypeSize(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  return t == "double" || t == "float64" ? 8 : 4;
+}
+
+// Whether [begin, end) is a whole decimal number as a stream reads one into `type`: digits with a
+// sign for integer types (at most 9, so the read cannot overflow), a finite decimal for float types
+// (no "nan", "inf" or hex, which a stream refuses). A word the reader cannot take whole fails its
+// stream or leaves a piece for the next value, and it loses its place in the file.
+bool plyNumber(const char* begin, const char* end, const std::string& type) {
+  const char* at = begin + (begin != end && (*begin == '+' || *begin == '-'));
+  const char* digits = at;
+  while (at != end && std::isdigit(static_cast<unsigned char>(*at)))
+    ++at;
+  if (!isFloatType(type)) return at != digits && at == end && at - digits <= 9;
+  std::size_t mantissa = std::size_t(at - digits);
+  if (at != end && *at == '.') {
+    const char* fraction = ++at;
+    while (at != end && std::isdigit(static_cast<unsigned char>(*at)))
+      ++at;
+    mantissa += std::size_t(at - fraction);
+  }
+  if (mantissa == 0) return false;
+  if (at != end && (*at == 'e' || *at == 'E')) {
+    at += 1 + (at + 1 != end && (at[1] == '+' || at[1] == '-'));
+    const char* exponent = at;
+    while (at != end && std::isdigit(static_cast<unsigned char>(*at)))
+      ++at;
+    if (at == exponent) return false;
+  }
+  return at == end && finiteNumber(begin, end);
+}
+
+// Whether OpenMesh's reader reads property `p` of element `e` as a number (the rest it skips as words).
+bool readAsNumber(const PlyElement& e, const PlyProperty& p) {
+  static const char* const kVertex[] = {
+      "x",           "y", "z",   "nx",    "ny",   "nz",    "u",           "s",
+      "v",           "t", "red", "green", "blue", "alpha", "diffuse_red", "diffuse_green",
+      "diffuse_blue"};
+  static const char* const kFace[] = {"red", "green", "blue", "alpha"};
+  if (e.name == "vertex") return std::find(std::begin(kVertex), std::end(kVertex), p.name) != std::end(kVertex);
+  return e.name == "face" && std::find(std::begin(kFace), std::end(kFace), p.name) != std::end(kFace);
+}
+
+// Whether `p` of element `e` is the list OpenMesh reads as a face's corners.
+bool isFaceCorners(const PlyElement& e, const PlyProperty& p) {
+  return e.name == "face" && p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
+}
+
+// What OpenMesh 9.0's PLY reader cannot read in `layout`: it reads the elements up to the first face
+// element, one value per property, except a face's vertex_indices list (a count, then the indices). Any
+// other list it reads as one value and loses its place; face properties before vertex_indices it drops
+// from its layout (but not from the file); a second vertex or face element it counts with the first.
+std::string plyLayoutProblem(const PlyLayout& layout) {
+  int vertices = 0, faces = 0;
+  for (const PlyElement& e : layout.elements) {
+    vertices += e.name == "vertex", faces += e.name == "face";
+    if (vertices > 1 || faces > 1) return "has a second '" + e.name + "' element";
+    for (std::size_t n = 0; n < e.properties.size(); ++n) {
+      const PlyProperty& p = e.properties[n];
+      if (p.list && !isFaceCorners(e, p))
+        return "element '" + e.name + "' has the list property '" + p.name +
+               "': OpenMesh reads lists only as a face's vertex_indices";
+      if (isFaceCorners(e, p) && isFloatType(p.type))
+        return "face vertex_indices are " + p.type + ": OpenMesh reads indices as integers";
+      if (isFaceCorners(e, p) && n > 0)
+        return "face property '" + e.properties[0].name +
+               "' comes before vertex_indices: OpenMesh's reader would drop it and misread every face";
+    }
+    if (e.name == "face") break; // the reader stops after the faces
+  }
+  return {};
+}
+
+// The faces' corner counts and indices, and every number OpenMesh reads before them, of an ASCII PLY,
+// word by word across lines as the reader reads them. x, y and z must be finite (the reader stopped at
+// "nan": "the mesh has no faces"); a count must be one the file can hold (a face of 2 * 10^9 corners
+// took 20 GB before the reader gave up, a negative one is 4 * 10^9 to it); every other value it reads
+// as a number must be a whole one of its type, so that the reader keeps its place (the rest it skips
+// as words).
+template <class Failure>
+BakeStatus checkPlyTextBody(std::istream& in, std::uint64_t size, const PlyLayout& layout, Failure failure) {
   std::string line;
   const char* at = line.c_str();
-  for (std::uint64_t vertex = 0; vertex < layout.count; ++vertex) {
-    for (std::size_t property = 0; property < is_axis.size(); ++property) {
-      const char *begin = nullptr, *end = nullptr;
-      if (!nextWord(in, &line, &at, &begin, &end)) return BakeStatus::success(); // short: the reader's to say
-      if (is_axis[property] && !finiteNumber(begin, end))
-        return failure("vertex " + std::to_string(vertex) + " " + notFinite(begin, end));
+  const char *begin = nullptr, *end = nullptr;
+  const auto next = [&] { return nextWord(in, &line, &at, &begin, &end); };
+  for (const PlyElement& e : layout.elements) {
+    for (std::uint64_t item = 0; item < e.count; ++item) {
+      const std::string which = e.name + " " + std::to_string(item);
+      for (const PlyProperty& p : e.properties) {
+        if (!next()) return BakeStatus::success(); // short: the reader's to say
+        const bool axis = e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z");
+        if (axis && !finiteNumber(begin, end)) return failure(which + " " + notFinite(begin, end));
+        if (!isFaceCorners(e, p)) {
+          if (readAsNumber(e, p) && !plyNumber(begin, end, p.type))
+            return failure(which + " has " + p.name + " '" + std::string(begin, end).substr(0, 24) + "', not a whole " +
+                           p.type);
+          continue;
+        }
+        const std::string count(begin, end);
+        if (!isCount(count) || std::stoull(count) > size / 2)
+          return failure(which + " claims '" + count.substr(0, 24) + "' corners, not a count the file can hold");
+        for (std::uint64_t corner = 0; corner < std::stoull(count); ++corner) {
+          if (!next())
+            return failure(which + " claims " + count + " corners and the file ends after " + std::to_string(corner));
+          if (!plyNumber(begin, end, "int")) // read as an unsigned integer, whatever the declared type
+            return failure(which + " lists '" + std::string(begin, end).substr(0, 24) + "', not a vertex index");
+        }
+      }
     }
+    if (e.name == "face") break;
+  }
+  return BakeStatus::success();
+}
+
+// The same for a binary PLY: the corner counts of its faces must fit in the file (the reader reads as
+// many indices as a count says, end of file or not). The reader reads one value per other property.
+template <class Failure>
+BakeStatus checkPlyBinaryBody(std::istream& in, std::uint64_t size, const PlyLayout& layout, Failure failure) {
+  const bool big = layout.format == "binary_big_endian";
+  std::uint64_t at = std::uint64_t(in.tellg());
+  for (const PlyElement& e : layout.elements) {
+    for (std::uint64_t item = 0; item < e.count; ++item) {
+      for (const PlyProperty& p : e.properties) {
+        if (!isFaceCorners(e, p)) {
+          at += plyTypeSize(p.type);
+          continue;
+        }
+        const std::size_t width = plyTypeSize(p.count_type);
+        unsigned char b[4] = {};
+        in.seekg(std::streamoff(at));
+        if (at + width > size || !in.read(reinterpret_cast<char*>(b), std::streamsize(width)))
+          return BakeStatus::success(); // short: the reader's to say
+        std::uint64_t count = 0;
+        for (std::size_t n = 0; n < width; ++n)
+          count |= std::uint64_t(b[big ? n : width - 1 - n]) << (8 * (width - 1 - n));
+        at += width;
+        if (count > (size - at) / plyTypeSize(p.type))
+          return failure("face " + std::to_string(item) + " claims " + std::to_string(count) +
+                         " corners, more than the " + std::to_string(size - at) + " bytes after it hold");
+        at += count * plyTypeSize(p.type);
+      }
+    }
+    if (e.name == "face") break;
   }
   return BakeStatus::success();
 }
@@ -210,10 +346,14 @@ BakeStatus checkPlyHeader(const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (n == 1 && line != "ply") return failure("does not start with 'ply'");
     if (n == 1) continue;
-    if (line == "end_header")
-      return checkPlyVertices(in, layout, [&](const std::string& why) {
+    if (line == "end_header") {
+      if (const std::string problem = plyLayoutProblem(layout); !problem.empty()) return failure(problem);
+      const auto body = [&](const std::string& why) {
         return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': PLY " + why);
-      });
+      };
+      return layout.format == "ascii" ? checkPlyTextBody(in, size, layout, body)
+                                      : checkPlyBinaryBody(in, size, layout, body);
+    }
     const std::string problem = plyLineProblem(line, size, &seen_element);
     if (!problem.empty()) return failure("line " + std::to_string(n) + " '" + line + "' " + problem);
     notePlyLine(line, &layout);

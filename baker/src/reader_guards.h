@@ -10,8 +10,10 @@ namespace dng {
 namespace baker {
 
 /// kInvalidInput unless every PLY header element count is a plain number the file is large enough to
-/// hold (OpenMesh trusts the counts: "element vertex banana" made it spin for 85 s and then throw), and,
-/// in an ASCII file whose first element is its vertices, each vertex's x, y and z are finite numbers.
+/// hold (OpenMesh trusts the counts: "element vertex banana" made it spin for 85 s and then throw), the
+/// only list is a face's vertex_indices, first among its properties, each face's corner count fits in
+/// the file (ASCII or binary), and in an ASCII file each vertex's x, y and z are finite numbers and
+/// every other value the reader reads as a number up to the faces is a whole number of its type.
 BakeStatus checkPlyHeader(const std::string& path);
 
 /// kInvalidInput unless an ASCII OFF file's vertex and face counts are plain numbers the file can
