@@ -122,6 +122,16 @@ TEST_F(MeshTest, OffFacesAreAStreamOfWords) {
   const BakeStatus word = loadMesh(write("word.off", head + "3 0 1 two\n"), &soup);
   EXPECT_EQ(word.code, BakeError::kInvalidInput);
   EXPECT_NE(word.message.find("face 0 lists 'two', not a vertex index"), std::string::npos) << word.message;
+  // An index beyond 32 bits fails OpenMesh's read, and every later face then reads the last valence.
+  const BakeStatus wide = loadMesh(write("wide.off", head + "3 0 1 99999999999\n3 0 1 2\n"), &soup);
+  EXPECT_EQ(wide.code, BakeError::kInvalidInput) << wide.message;
+  EXPECT_NE(wide.message.find("face 0 lists '99999999999', not a vertex index"), std::string::npos) << wide.message;
+  // NOFF: the normal is read from the same stream, so it must be numbers too.
+  const BakeStatus normal =
+      loadMesh(write("normal.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 nan\n0 1 0 0 0 1\n3 0 1 2\n"), &soup);
+  EXPECT_EQ(normal.code, BakeError::kInvalidInput);
+  EXPECT_NE(normal.message.find("vertex 1 has coordinate 'nan'"), std::string::npos) << normal.message;
+  EXPECT_EQ(load(write("normals.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n")).polygons, 1u);
   const BakeStatus cut = loadMesh(write("cut.off", head + "3 0 2 1\n3 0 1\n"), &soup);
   EXPECT_EQ(cut.code, BakeError::kInvalidInput);
   EXPECT_NE(cut.message.find("face 1 claims 3 vertices and the file ends after 2"), std::string::npos) << cut.message;

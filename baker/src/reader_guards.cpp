@@ -59,10 +59,12 @@ std::string firstWord(const std::string& line, const char** out_rest) {
 // Empty when the text at `at` starts with three coordinates, numbers read whole and finite as floats;
 // else what is wrong with them. OpenMesh's text readers take "nan" or "1e99" without a word, and its
 // STL reader keeps a NaN vertex (merged with another).
-std::string coordinateProblem(const char* at) {
-  for (int axis = 0; axis < 3; ++axis) {
+// `count` 6: a position and a normal (NOFF), as many numbers read from the same stream.
+std::string coordinateProblem(const char* at, int count = 3) {
+  for (int axis = 0; axis < count; ++axis) {
     at = skipBlanks(at);
-    if (*at == '\0' || *at == '#') return "has fewer than 3 coordinates";
+    if (*at == '\0' || *at == '#')
+      return count == 3 ? "has fewer than 3 coordinates" : "has fewer than 6 numbers, its position and normal";
     char* end = nullptr;
     const float value = std::strtof(at, &end); // infinite when beyond a float, as the readers' floats
     if (end == at || !(*end == '\0' || *end == '#' || blank(*end)) || !std::isfinite(value))
@@ -388,7 +390,9 @@ std::uint64_t unsignedValue(const std::string& number, std::uint64_t limit) {
 
 } // namespace
 
-// Each vertex line must start with three finite coordinates, and each face must list as many indices
+// Each vertex line must start with three finite coordinates (six numbers with NOFF's normal: one the
+// stream cannot read fails it, and each face then reads the vertex count as its valence), and each
+// face must list as many indices
 // as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge number) and
 // tried to allocate 2 GB (found by fuzzing). OpenMesh reads a vertex per line but the faces as one
 // stream of numbers, line ends included (a face's valence may follow another face's indices on its
@@ -396,13 +400,13 @@ std::uint64_t unsignedValue(const std::string& number, std::uint64_t limit) {
 // a valence after a face of valence 0 had passed unchecked, and read word by word, an index "0-4" had
 // hidden the valence -4 that OpenMesh read after its 0; each made it allocate 2 GB (fuzzing).
 template <class Failure>
-BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces,
+BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces, int numbers,
                         Failure failure) {
   std::string line;
   for (std::uint64_t vertex = 0; vertex < vertices && std::getline(in, line);) {
     const std::size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue; // blank and comment lines are not vertices
-    const std::string problem = coordinateProblem(line.c_str() + first);
+    const std::string problem = coordinateProblem(line.c_str() + first, numbers);
     if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
     ++vertex;
   }
@@ -424,10 +428,12 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vert
       if (in.peek() == std::char_traits<char>::eof())
         return failure("face " + std::to_string(face) + " claims " + valence + " vertices and the file ends after " +
                        std::to_string(listed));
-      if (nextUnsigned(in).empty()) {
+      // Beyond 32 bits the read fails, and every later one: each later face reads the last valence.
+      const std::string index = nextUnsigned(in);
+      if (index.empty() || unsignedValue(index, UINT32_MAX) > UINT32_MAX) {
+        std::string word = index;
         in.clear();
-        std::string word;
-        in >> word;
+        if (word.empty()) in >> word;
         return failure("face " + std::to_string(face) + " lists '" + word.substr(0, 20) + "', not a vertex index");
       }
     }
@@ -534,7 +540,9 @@ BakeStatus checkOffHeader(const std::string& path) {
   if (vertices > size / 6 || faces > size / 2)
     return failure("header counts " + counts[0] + " " + counts[1] + " are impossible in a file of " +
                    std::to_string(size) + " bytes");
-  return checkOffBody(in, size, vertices, faces, failure);
+  // OpenMesh reads a NOFF vertex's normal from the stream too (the rest of its line it reads apart).
+  const int numbers = keyword.find('N') != std::string::npos ? 6 : 3;
+  return checkOffBody(in, size, vertices, faces, numbers, failure);
 }
 
 BakeStatus checkStlCoordinates(const std::string& path) {
