@@ -237,6 +237,46 @@ TEST_F(MeshTest, PlyCornerCountsMustFitTheFile) {
   EXPECT_EQ(soup.polygons, 1u);
 }
 
+// OpenMesh's binary PLY reader reads positions, normals and texture coordinates only as float or double,
+// and colours only as integers or float (each of 16 types tried): it misreads the rest and every value
+// after them, which is how a fuzzed file made it allocate 2 GB. Such files are refused.
+TEST_F(MeshTest, BinaryPlyTypesTheReaderMisreadsAreRefused) {
+  const auto ply = [](const std::string& x_type, const std::string& colour_type) {
+    std::string text = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty " + x_type +
+                       " x\nproperty float y\nproperty float z\nproperty " + colour_type +
+                       " red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    for (int v = 0; v < 3; ++v) {
+      if (x_type == "double") {
+        const double x = v == 1 ? 1.0 : 0.0;
+        text.append(reinterpret_cast<const char*>(&x), sizeof x);
+      } else {
+        const float x = v == 1 ? 1.0f : 0.0f;
+        text.append(reinterpret_cast<const char*>(&x), sizeof x);
+      }
+      const float yz[2] = {v == 2 ? 1.0f : 0.0f, 0.0f};
+      text.append(reinterpret_cast<const char*>(yz), sizeof yz);
+      text.append(colour_type == "uchar" ? 1u : 4u, '\0');
+    }
+    const std::int32_t corners[3] = {0, 1, 2};
+    text += '\3';
+    text.append(reinterpret_cast<const char*>(corners), sizeof corners);
+    return text;
+  };
+  const TriangleSoup soup = load(write("double_x.ply", ply("double", "uchar")));
+  ASSERT_EQ(soup.vertices.size(), 3u);
+  EXPECT_EQ(soup.vertices[1].x, 1.0f);
+  EXPECT_EQ(checkMesh(soup).triangles, 1u);
+  TriangleSoup refused;
+  const BakeStatus short_x = loadMesh(write("short_x.ply", ply("short", "uchar")), &refused);
+  EXPECT_EQ(short_x.code, BakeError::kInvalidInput);
+  EXPECT_NE(short_x.message.find("vertex property 'x' is short: OpenMesh's binary reader misreads it"),
+            std::string::npos)
+      << short_x.message;
+  const BakeStatus double_red = loadMesh(write("double_red.ply", ply("float", "double")), &refused);
+  EXPECT_EQ(double_red.code, BakeError::kInvalidInput);
+  EXPECT_NE(double_red.message.find("vertex property 'red' is double"), std::string::npos) << double_red.message;
+}
+
 // OpenMesh's .om reader needs a whole OpenMesh mesh, which the soup importer is not: such files are
 // refused as unsupported, with what to do instead. (The bytes: a triangle as OpenMesh 9.0 writes it.)
 TEST_F(MeshTest, OpenMeshNativeFilesAreRefusedAsUnsupported) {

@@ -226,6 +226,22 @@ bool readAsNumber(const PlyElement& e, const PlyProperty& p) {
   return e.name == "face" && std::find(std::begin(kFace), std::end(kFace), p.name) != std::end(kFace);
 }
 
+// What OpenMesh 9.0's binary PLY reader cannot read in place, found by trying every type: a vertex's
+// position, normal or texture coordinate of an integer type, and a colour in double precision. It reads
+// such a value as nothing or as a float, and every value after it from the wrong bytes.
+std::string plyBinaryTypeProblem(const PlyElement& e, const PlyProperty& p) {
+  static const char* const kFloats[] = {"x", "y", "z", "nx", "ny", "nz", "u", "s", "v", "t"};
+  static const char* const kColours[] = {"red",         "green",         "blue",        "alpha",
+                                         "diffuse_red", "diffuse_green", "diffuse_blue"};
+  const bool float_read =
+      e.name == "vertex" && std::find(std::begin(kFloats), std::end(kFloats), p.name) != std::end(kFloats);
+  const bool colour = (e.name == "vertex" || e.name == "face") &&
+                      std::find(std::begin(kColours), std::end(kColours), p.name) != std::end(kColours);
+  if ((float_read && !isFloatType(p.type)) || (colour && plyTypeSize(p.type) == 8))
+    return e.name + " property '" + p.name + "' is " + p.type + ": OpenMesh's binary reader misreads it";
+  return {};
+}
+
 // Whether `p` of element `e` is the list OpenMesh reads as a face's corners.
 bool isFaceCorners(const PlyElement& e, const PlyProperty& p) {
   return e.name == "face" && p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
@@ -245,6 +261,8 @@ std::string plyLayoutProblem(const PlyLayout& layout) {
       if (p.list && !isFaceCorners(e, p))
         return "element '" + e.name + "' has the list property '" + p.name +
                "': OpenMesh reads lists only as a face's vertex_indices";
+      if (const std::string problem = layout.format == "ascii" ? "" : plyBinaryTypeProblem(e, p); !problem.empty())
+        return problem;
       if (isFaceCorners(e, p) && isFloatType(p.type))
         return "face vertex_indices are " + p.type + ": OpenMesh reads indices as integers";
       if (isFaceCorners(e, p) && n > 0)
