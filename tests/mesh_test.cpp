@@ -300,6 +300,12 @@ TEST_F(MeshTest, OffCountsAreTheWordsAfterTheKeywordLine) {
   const BakeStatus comment = loadMesh(write("comment.off", "OFF\n# made by hand\n4 4 0\n" + body), &soup);
   EXPECT_EQ(comment.code, BakeError::kInvalidInput);
   EXPECT_NE(comment.message.find("count '#' is not a number"), std::string::npos) << comment.message;
+  // Nor among the vertices, where OpenMesh reads it as a coordinate and fails (no faces, and with many
+  // faces and vertices their product of work).
+  const std::string among = "OFF\n4 4 0\n0 0 0\n# made by hand\n" + body.substr(6);
+  const BakeStatus inside = loadMesh(write("among.off", among), &soup);
+  EXPECT_EQ(inside.code, BakeError::kInvalidInput) << inside.message;
+  EXPECT_NE(inside.message.find("vertex 1 is a comment line"), std::string::npos) << inside.message;
 }
 
 TEST_F(MeshTest, EveryFormatGivesTheSameCube) {

@@ -423,7 +423,11 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vert
   std::string line;
   for (std::uint64_t vertex = 0; vertex < vertices && std::getline(in, line);) {
     const std::size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue; // blank and comment lines are not vertices
+    if (first == std::string::npos) continue; // a blank line is only space to the reader
+    // The reader reads "#" as a coordinate, fails, and then reads every face's valence as the vertex
+    // count: faces times vertices of work, and no mesh.
+    if (line[first] == '#')
+      return failure("vertex " + std::to_string(vertex) + " is a comment line: OpenMesh's reader cannot skip it");
     const std::string problem = coordinateProblem(line.c_str() + first, numbers);
     if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
     ++vertex;
