@@ -224,6 +224,14 @@ TEST_F(MeshTest, PlyCornerCountsMustFitTheFile) {
             std::string::npos);
   EXPECT_NE(refused("before.ply", head + "property uchar red\n" + corners).find("face property 'red' comes before"),
             std::string::npos);
+  // OpenMesh reads the words after obj_info as keywords (a comment's it skips).
+  EXPECT_EQ(checkMesh(load(write("info.ply", head + "obj_info made by hand\ncomment element x 9\n" + corners +
+                                                 "3 0 2 1\n3 0 1 3\n")))
+                .triangles,
+            2u);
+  EXPECT_NE(refused("info_element.ply", head + "obj_info element extra 2000000000\n" + corners)
+                .find("obj_info element extra 2000000000' holds the word 'element'"),
+            std::string::npos);
   // Binary, big-endian: a count of -4 is 4 * 10^9 to the reader.
   std::string binary = "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                        "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
