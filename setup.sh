@@ -314,11 +314,11 @@ cmd_fuzz_meshes() {
   printf '\002ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$meshes/ply"
   printf '\003solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$meshes/stl"
   # The binary variants: little-endian PLY, STL (80-byte header, a count, 50-byte facets), OFF BINARY
-  # (big-endian counts and values, as OpenMesh reads them). One float: 1.0.
-  local one_le='\000\000\200\077' one_be='\077\200\000\000' z4='\000\000\000\000'
+  # (little-endian counts and values, as OpenMesh reads them). One float: 1.0.
+  local one_le='\000\000\200\077' z4='\000\000\000\000'
   printf "\002ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n$z4$z4$z4$one_le$z4$z4$z4$one_le$z4\003$z4\001\000\000\000\002\000\000\000" >"$meshes/ply_binary"
   { printf '\003binary'; printf '%74s' ''; printf "\001\000\000\000$z4$z4$one_le$z4$z4$z4$one_le$z4$z4$z4$one_le$z4\000\000"; } >"$meshes/stl_binary"
-  printf "\001OFF BINARY\n\000\000\000\003\000\000\000\001\000\000\000\000$z4$z4$z4$one_be$z4$z4$z4$one_be$z4\000\000\000\003$z4\000\000\000\001\000\000\000\002$z4" >"$meshes/off_binary"
+  printf "\001OFF BINARY\n\003\000\000\000\001\000\000\000$z4$z4$z4$z4$one_le$z4$z4$z4$one_le$z4\003\000\000\000$z4\001\000\000\000\002\000\000\000" >"$meshes/off_binary"
   "$build/tests/fuzz/fuzz_mesh" -max_total_time="${1:-300}" -max_len=4096 -timeout=10 -print_final_stats=1 "$meshes"
 }
 

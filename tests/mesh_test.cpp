@@ -219,9 +219,33 @@ TEST_F(MeshTest, PlyCornerCountsMustFitTheFile) {
   EXPECT_NE(refused("cut.ply", head + corners + "3 0 2 1\n3 0 1\n").find("face 1 claims 3 corners and the file ends"),
             std::string::npos);
   EXPECT_NE(refused("texcoord.ply", head + "property list uchar int vertex_indices\nproperty list uchar float "
-                                           "texcoord\nend_header\n")
+                                           "texcoord\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 6 0 0 1 0 0 1\n"
+                                           "3 0 1 3 6 0 0 1 0 0 1\n")
                 .find("element 'face' has the list property 'texcoord'"),
             std::string::npos);
+  EXPECT_NE(refused("double_count.ply", head + "property list double int vertex_indices\nend_header\n")
+                .find("face vertex_indices are counted in double: OpenMesh's reader takes only"),
+            std::string::npos);
+  // The reader splits words at \v and reads a NUL inside a word: a corner count the walk would not see.
+  EXPECT_NE(refused("nul.ply", head + corners + "3 0 2 1\n3 0 1 3" + std::string(1, '\0') + " 2000000000\n")
+                .find("holds the control byte 0 after its header"),
+            std::string::npos);
+  // Colours it reads as integers unless declared float, so a double colour must be a whole number.
+  const std::string coloured = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\nproperty double red\nelement face 1\n" +
+                               corners.substr(0, corners.find("0 0 0"));
+  EXPECT_NE(refused("double_red.ply", coloured + "0 0 0 0.5\n1 0 0 1\n0 1 0 1\n3 0 1 2\n")
+                .find("vertex 0 has red '0.5', not a whole integer as the reader reads it"),
+            std::string::npos);
+  EXPECT_EQ(load(write("whole_red.ply", coloured + "0 0 0 0\n1 0 0 1\n0 1 0 1\n3 0 1 2\n")).polygons, 1u);
+  // A layout common exporters write: CR LF, normals, colours as uchar.
+  std::string exported = "ply\r\nformat ascii 1.0\r\ncomment made by hand\r\nelement vertex 3\r\n";
+  for (const char* p : {"float x", "float y", "float z", "float nx", "float ny", "float nz", "uchar red", "uchar green",
+                        "uchar blue", "uchar alpha"})
+    exported += std::string("property ") + p + "\r\n";
+  exported += "element face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n";
+  exported += "0 0 0 0 0 1 255 0 0 255\r\n1 0 0 0 0 1 0 255 0 255\r\n0 1 0 0 0 1 0 0 255 255\r\n3 0 1 2\r\n";
+  EXPECT_EQ(load(write("exported.ply", exported)).polygons, 1u);
   EXPECT_NE(refused("before.ply", head + "property uchar red\n" + corners).find("face property 'red' comes before"),
             std::string::npos);
   // OpenMesh reads the words after obj_info as keywords (a comment's it skips).
@@ -243,6 +267,12 @@ TEST_F(MeshTest, PlyCornerCountsMustFitTheFile) {
   TriangleSoup soup;
   EXPECT_TRUE(loadMesh(write("binary.ply", binary), &soup).ok());
   EXPECT_EQ(soup.polygons, 1u);
+  // The reader finds binary data 12 bytes after the last word it read before end_header, a comment's
+  // line end included: after a comment it reads from one byte too far.
+  const std::string commented =
+      binary.substr(0, binary.find("end_header")) + "comment last\n" + binary.substr(binary.find("end_header"));
+  EXPECT_NE(refused("commented.ply", commented).find("ends where OpenMesh's reader does not find its binary data"),
+            std::string::npos);
 }
 
 // OpenMesh's binary PLY reader reads positions, normals and texture coordinates only as float or double,

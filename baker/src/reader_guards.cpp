@@ -225,15 +225,21 @@ bool plyNumber(const char* begin, const char* end, const std::string& type) {
   return at == end && finiteNumber(begin, end);
 }
 
-// Whether OpenMesh's reader reads property `p` of element `e` as a number (the rest it skips as words).
-bool readAsNumber(const PlyElement& e, const PlyProperty& p) {
-  static const char* const kVertex[] = {
-      "x",           "y", "z",   "nx",    "ny",   "nz",    "u",           "s",
-      "v",           "t", "red", "green", "blue", "alpha", "diffuse_red", "diffuse_green",
-      "diffuse_blue"};
-  static const char* const kFace[] = {"red", "green", "blue", "alpha"};
-  if (e.name == "vertex") return std::find(std::begin(kVertex), std::end(kVertex), p.name) != std::end(kVertex);
-  return e.name == "face" && std::find(std::begin(kFace), std::end(kFace), p.name) != std::end(kFace);
+// How OpenMesh's ASCII reader reads property `p` of element `e`: "float" (positions, normals, texture
+// coordinates, whatever their declared type, and float colours), "int" (other colours, double ones
+// too), or "" for a word it skips.
+std::string textRead(const PlyElement& e, const PlyProperty& p) {
+  static const char* const kFloats[] = {"x", "y", "z", "nx", "ny", "nz", "u", "s", "v", "t"};
+  static const char* const kColours[] = {"red",         "green",         "blue",        "alpha",
+                                         "diffuse_red", "diffuse_green", "diffuse_blue"};
+  const auto in = [&p](const auto& names) {
+    return std::find(std::begin(names), std::end(names), p.name) != std::end(names);
+  };
+  if (e.name == "vertex" && in(kFloats)) return "float";
+  const bool colour = (e.name == "vertex" && in(kColours)) ||
+                      (e.name == "face" && in(kColours) && p.name.compare(0, 8, "diffuse_") != 0);
+  if (!colour) return "";
+  return p.type == "float" || p.type == "float32" ? "float" : "int";
 }
 
 // What OpenMesh 9.0's binary PLY reader cannot read in place, found by trying every type: a vertex's
@@ -273,6 +279,10 @@ std::string plyLayoutProblem(const PlyLayout& layout) {
                "': OpenMesh reads lists only as a face's vertex_indices";
       if (const std::string problem = layout.format == "ascii" ? "" : plyBinaryTypeProblem(e, p); !problem.empty())
         return problem;
+      if (isFaceCorners(e, p) && p.count_type != "uchar" && p.count_type != "uint8" && p.count_type != "uint16" &&
+          p.count_type != "int")
+        return "face vertex_indices are counted in " + p.count_type +
+               ": OpenMesh's reader takes only uchar, uint8, uint16 or int";
       if (isFaceCorners(e, p) && isFloatType(p.type))
         return "face vertex_indices are " + p.type + ": OpenMesh reads indices as integers";
       if (isFaceCorners(e, p) && n > 0)
@@ -292,6 +302,16 @@ std::string plyLayoutProblem(const PlyLayout& layout) {
 // as words).
 template <class Failure>
 BakeStatus checkPlyTextBody(std::istream& in, std::uint64_t size, const PlyLayout& layout, Failure failure) {
+  // The reader splits words at any white space (\v and \f too) and reads a NUL as part of a word; the
+  // walk below splits at blanks and stops a line at a NUL. So no other control byte may be there.
+  const std::streamoff body = in.tellg();
+  for (char c; in.get(c);) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 && c != '\t' && c != '\r' && c != '\n')
+      return failure("holds the control byte " + std::to_string(int(u)) + " after its header");
+  }
+  in.clear();
+  in.seekg(body);
   std::string line;
   const char* at = line.c_str();
   const char *begin = nullptr, *end = nullptr;
@@ -304,9 +324,10 @@ BakeStatus checkPlyTextBody(std::istream& in, std::uint64_t size, const PlyLayou
         const bool axis = e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z");
         if (axis && !finiteNumber(begin, end)) return failure(which + " " + notFinite(begin, end));
         if (!isFaceCorners(e, p)) {
-          if (readAsNumber(e, p) && !plyNumber(begin, end, p.type))
+          const std::string read = textRead(e, p);
+          if (!read.empty() && !plyNumber(begin, end, read))
             return failure(which + " has " + p.name + " '" + std::string(begin, end).substr(0, 24) + "', not a whole " +
-                           p.type);
+                           (read == "int" ? "integer" : "finite number") + " as the reader reads it");
           continue;
         }
         const std::string count(begin, end);
@@ -330,32 +351,55 @@ BakeStatus checkPlyTextBody(std::istream& in, std::uint64_t size, const PlyLayou
 template <class Failure>
 BakeStatus checkPlyBinaryBody(std::istream& in, std::uint64_t size, const PlyLayout& layout, Failure failure) {
   const bool big = layout.format == "binary_big_endian";
-  std::uint64_t at = std::uint64_t(in.tellg());
+  const std::streamoff start = in.tellg();
+  std::uint64_t left = start < 0 ? 0 : size - std::uint64_t(start);
+  // Read in order (a seek per face cost two system calls each): skips, and each face's corner count.
+  const auto skip = [&](std::uint64_t bytes) {
+    if (bytes > left) return false;
+    in.ignore(std::streamsize(bytes));
+    left -= bytes;
+    return true;
+  };
   for (const PlyElement& e : layout.elements) {
     for (std::uint64_t item = 0; item < e.count; ++item) {
       for (const PlyProperty& p : e.properties) {
         if (!isFaceCorners(e, p)) {
-          at += plyTypeSize(p.type);
+          if (!skip(plyTypeSize(p.type))) return BakeStatus::success(); // short: the reader's to say
           continue;
         }
-        const std::size_t width = plyTypeSize(p.count_type);
-        unsigned char b[4] = {};
-        in.seekg(std::streamoff(at));
-        if (at + width > size || !in.read(reinterpret_cast<char*>(b), std::streamsize(width)))
-          return BakeStatus::success(); // short: the reader's to say
+        unsigned char b[4] = {}; // plyLayoutProblem allows counts of 1, 2 or 4 bytes only
+        const std::size_t width = std::min(plyTypeSize(p.count_type), sizeof b);
+        if (width > left || !in.read(reinterpret_cast<char*>(b), std::streamsize(width))) return BakeStatus::success();
+        left -= width;
         std::uint64_t count = 0;
         for (std::size_t n = 0; n < width; ++n)
           count |= std::uint64_t(b[big ? n : width - 1 - n]) << (8 * (width - 1 - n));
-        at += width;
-        if (count > (size - at) / plyTypeSize(p.type))
+        if (count > left / plyTypeSize(p.type))
           return failure("face " + std::to_string(item) + " claims " + std::to_string(count) +
-                         " corners, more than the " + std::to_string(size - at) + " bytes after it hold");
-        at += count * plyTypeSize(p.type);
+                         " corners, more than the " + std::to_string(left) + " bytes after it hold");
+        skip(count * plyTypeSize(p.type));
       }
     }
     if (e.name == "face") break;
   }
   return BakeStatus::success();
+}
+
+} // namespace
+
+namespace {
+
+// Whether OpenMesh's reader takes a binary PLY's data to start where it does, at `in`'s position (just
+// after the end_header line), when the last word before end_header ends at `after_last_word`.
+bool binaryStartAgrees(std::istream& in, std::streamoff after_last_word) {
+  const std::streamoff data = in.tellg();
+  if (data < 0) return true; // no data at all: the reader's to say
+  char c[2] = {};
+  in.seekg(after_last_word);
+  in.read(c, 2);
+  in.clear();
+  in.seekg(data);
+  return after_last_word + (c[0] == '\r' && c[1] == '\n' ? 14 : 12) == data;
 }
 
 } // namespace
@@ -372,7 +416,12 @@ BakeStatus checkPlyHeader(const std::string& path) {
   std::string line;
   bool seen_element = false;
   PlyLayout layout;
-  for (int n = 1; n <= 1000 && std::getline(in, line); ++n) {
+  // Where OpenMesh's reader ends its header: just after the last word it read before end_header (after
+  // a comment's whole line), as the stream's position, from which it takes binary data to begin 12 bytes
+  // on (14 when a CR LF follows).
+  std::streamoff after_last_word = 0, line_start = 0;
+  for (int n = 1; n <= 1000 && (line_start = in.tellg(), std::getline(in, line)); ++n) {
+    const std::string raw = line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (n == 1 && line != "ply") return failure("does not start with 'ply'");
     if (n == 1) continue;
@@ -381,12 +430,22 @@ BakeStatus checkPlyHeader(const std::string& path) {
       const auto body = [&](const std::string& why) {
         return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': PLY " + why);
       };
+      if (layout.format != "ascii" && !binaryStartAgrees(in, after_last_word))
+        return failure("ends where OpenMesh's reader does not find its binary data (a comment or trailing spaces "
+                       "just before end_header, or mixed line ends)");
       return layout.format == "ascii" ? checkPlyTextBody(in, size, layout, body)
                                       : checkPlyBinaryBody(in, size, layout, body);
     }
     const std::string problem = plyLineProblem(line, size, &seen_element);
     if (!problem.empty()) return failure("line " + std::to_string(n) + " '" + line + "' " + problem);
     notePlyLine(line, &layout);
+    const std::size_t last = raw.find_last_not_of(" \t\r\v\f");
+    std::string keyword;
+    std::istringstream(raw) >> keyword;
+    if (keyword == "comment") // the reader skips the rest of a comment's line, its line end too
+      after_last_word = in.tellg();
+    else if (last != std::string::npos)
+      after_last_word = line_start + std::streamoff(last + 1);
   }
   return failure("has no end_header line in its first 1000 lines");
 }
@@ -554,8 +613,8 @@ BakeStatus checkOffHeader(const std::string& path) {
   if (isCount(binary))
     return failure("header '" + first_line.substr(0, 40) + "' has its counts on the keyword's line: OpenMesh " +
                    "reads them from the next line");
-  // OpenMesh refuses the n-dimensional variants itself.
-  if (keyword.find('n') != std::string::npos) return BakeStatus::success();
+  // OpenMesh refuses the n-dimensional and 4D variants itself.
+  if (keyword.find('n') != std::string::npos || keyword.find('4') != std::string::npos) return BakeStatus::success();
   if (openMeshReadsBinary(first_line, keyword)) return checkOffBinary(in, size, keyword, failure);
   // The next three words, across lines, as OpenMesh reads them (a comment there is not a count to it).
   std::vector<std::string> counts;
