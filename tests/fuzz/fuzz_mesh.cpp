@@ -1,4 +1,4 @@
-// libFuzzer target for mesh loading: OpenMesh's readers behind our guards (reader_guards.cpp), then
+// libFuzzer target for mesh loading: OpenMesh's readers behind our guards (reader_guards.h), then
 // the mesh checks. The first byte picks the format, the rest is the file. Any crash or abort is a bug:
 // every malformed mesh must come back as a status with a message. OpenMesh itself is not
 // instrumented, so coverage guides only through our code; its asserts and crashes still show.

@@ -1,0 +1,224 @@
+// The OFF guard (reader_guards.h checkOffHeader): counts, vertices and faces as OpenMesh 9.0's reader
+// reads them, ASCII or binary.
+#include "guard_text.h"
+#include "reader_guards.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <vector>
+
+namespace dng {
+namespace baker {
+
+using namespace guard;
+
+namespace {
+
+// [ST][C][N][4][n]OFF, the OFF magic and its variants.
+bool isOffVariant(const std::string& keyword) {
+  std::size_t at = 0;
+  for (const char* optional : {"ST", "C", "N", "4", "n"}) {
+    const std::size_t n = std::strlen(optional);
+    if (keyword.compare(at, n, optional) == 0) at += n;
+  }
+  return keyword.compare(at, std::string::npos, "OFF") == 0;
+}
+
+} // namespace
+
+namespace {
+
+// The next number as OpenMesh's `in >> unsigned` reads one: blanks (line ends too) skipped, then a sign
+// and the digits after it, the rest of the word left for the next read ("0-4" is 0, then -4). Empty
+// when no digit follows: the stream then fails, and so does every later read.
+std::string nextUnsigned(std::istream& in) {
+  in >> std::ws;
+  std::string number;
+  if (in.peek() == '+' || in.peek() == '-') number += char(in.get());
+  while (std::isdigit(in.peek()))
+    number += char(in.get());
+  return number.find_first_of("0123456789") == std::string::npos ? std::string() : number;
+}
+
+// What an unsigned read makes of `number` (nextUnsigned's): more than `limit` when it is above it,
+// negative (unsigned arithmetic makes -4 a count of 4 * 10^9) or beyond any integer.
+std::uint64_t unsignedValue(const std::string& number, std::uint64_t limit) {
+  const bool negative = number[0] == '-';
+  const std::string digits = number.substr(number[0] == '+' || negative ? 1 : 0);
+  const std::size_t first = std::min(digits.find_first_not_of('0'), digits.size());
+  if (first == digits.size()) return 0; // zero, with any sign
+  if (negative || digits.size() - first > 18) return limit + 1;
+  return std::stoull(digits.substr(first));
+}
+
+} // namespace
+
+// Each vertex line must start with three finite coordinates (six numbers with NOFF's normal: one the
+// stream cannot read fails it, and each face then reads the vertex count as its valence), and each
+// face must list as many indices
+// as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge number) and
+// tried to allocate 2 GB (found by fuzzing). OpenMesh reads a vertex per line but the faces as one
+// stream of numbers, line ends included (a face's valence may follow another face's indices on its
+// line), each read as far as its digits go, so the faces are checked the same way: read line by line,
+// a valence after a face of valence 0 had passed unchecked, and read word by word, an index "0-4" had
+// hidden the valence -4 that OpenMesh read after its 0; each made it allocate 2 GB (fuzzing).
+template <class Failure>
+BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces, int numbers,
+                        Failure failure) {
+  std::string line;
+  for (std::uint64_t vertex = 0; vertex < vertices && std::getline(in, line);) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue; // a blank line is only space to the reader
+    // The reader reads "#" as a coordinate, fails, and then reads every face's valence as the vertex
+    // count: faces times vertices of work, and no mesh.
+    if (line[first] == '#')
+      return failure("vertex " + std::to_string(vertex) + " is a comment line: OpenMesh's reader cannot skip it");
+    const std::string problem = coordinateProblem(line.c_str() + first, numbers);
+    if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
+    ++vertex;
+  }
+  for (std::uint64_t face = 0; face < faces; ++face) {
+    in >> std::ws;
+    if (in.peek() == std::char_traits<char>::eof()) break; // short: no more faces, and OpenMesh reads none
+    const std::string valence = nextUnsigned(in);
+    // At least a digit and a space per index.
+    if (valence.empty() || unsignedValue(valence, size / 2) > size / 2) {
+      in.clear();
+      std::string word;
+      in >> word;
+      return failure("face " + std::to_string(face) + " claims '" + (valence.empty() ? word : valence).substr(0, 20) +
+                     "' vertices, not a count of indices the file can hold");
+    }
+    const std::uint64_t claimed = unsignedValue(valence, size / 2);
+    for (std::uint64_t listed = 0; listed < claimed; ++listed) {
+      in >> std::ws;
+      if (in.peek() == std::char_traits<char>::eof())
+        return failure("face " + std::to_string(face) + " claims " + valence + " vertices and the file ends after " +
+                       std::to_string(listed));
+      // Beyond 32 bits the read fails, and every later one: each later face reads the last valence.
+      const std::string index = nextUnsigned(in);
+      if (index.empty() || unsignedValue(index, UINT32_MAX) > UINT32_MAX) {
+        std::string word = index;
+        in.clear();
+        if (word.empty()) in >> word;
+        return failure("face " + std::to_string(face) + " lists '" + word.substr(0, 20) + "', not a vertex index");
+      }
+    }
+  }
+  return BakeStatus::success();
+}
+
+namespace {
+
+// A little-endian 32-bit word from `in`; false at the end of the file.
+bool readLittle32(std::istream& in, std::uint32_t* out) {
+  unsigned char b[4];
+  if (!in.read(reinterpret_cast<char*>(b), sizeof b)) return false;
+  *out = std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24;
+  return true;
+}
+
+// Whether OpenMesh reads an OFF file whose first line is `line`, keyword `keyword`, as binary: it
+// looks for BINARY exactly one character after the keyword (so "OFF  BINARY" is read as text).
+bool openMeshReadsBinary(const std::string& line, const std::string& keyword) {
+  return line.compare(0, keyword.size(), keyword) == 0 && line.size() >= keyword.size() + 7 &&
+         line.compare(keyword.size() + 1, 6, "BINARY") == 0;
+}
+
+} // namespace
+
+// A binary OFF after its keyword's line, as OpenMesh 9.0 reads one (with the baker's reading options):
+// little-endian 32-bit counts of vertices, faces and edges; each vertex three floats, then three more
+// for N, three 32-bit colour words for C and two floats for ST; each face a 32-bit valence and as
+// many indices. The reader reads as many faces as the count says, end of file or not: a count or a
+// valence the file cannot hold kept it reading for ever (found seeding the fuzzer with a binary OFF).
+template <class Failure>
+BakeStatus checkOffBinary(std::istream& in, std::uint64_t size, const std::string& keyword, Failure failure) {
+  const std::string prefix = keyword.substr(0, keyword.size() - 3);
+  const std::uint64_t record = 12 + (prefix.find('N') != std::string::npos ? 12 : 0) +
+                               (prefix.find('C') != std::string::npos ? 12 : 0) + (prefix.rfind("ST", 0) == 0 ? 8 : 0);
+  std::uint32_t vertices = 0, faces = 0, edges = 0;
+  if (!readLittle32(in, &vertices) || !readLittle32(in, &faces) || !readLittle32(in, &edges))
+    return failure("binary file ends before its vertex, face and edge counts");
+  std::uint64_t left = size - std::uint64_t(in.tellg());
+  if (vertices > left / record)
+    return failure("binary header declares " + std::to_string(vertices) + " vertices of " + std::to_string(record) +
+                   " bytes, more than the " + std::to_string(left) + " bytes after it");
+  left -= vertices * record;
+  if (faces > left / 4)
+    return failure("binary header declares " + std::to_string(faces) + " faces, more than the " + std::to_string(left) +
+                   " bytes after the vertices can hold");
+  in.seekg(std::streamoff(vertices * record), std::ios::cur);
+  for (std::uint32_t face = 0; face < faces; ++face) {
+    std::uint32_t valence = 0;
+    if (!readLittle32(in, &valence))
+      return failure("binary file ends before face " + std::to_string(face) + " of " + std::to_string(faces));
+    left -= 4;
+    if (valence > left / 4)
+      return failure("face " + std::to_string(face) + " claims " + std::to_string(valence) +
+                     " vertices, more than the file holds");
+    in.ignore(std::streamsize(valence) * 4);
+    left -= std::uint64_t(valence) * 4;
+  }
+  return BakeStatus::success();
+}
+
+// OpenMesh 9.0's OFF reader trusts the counts too: "OFF\n0 -1 2" (a negative face count, found by
+// fuzzing) kept it reading for more than 10 s. The counts must be plain numbers the file can hold.
+BakeStatus checkOffHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  auto failure = [&](const std::string& why) {
+    return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': OFF " + why);
+  };
+  std::string first_line;
+  std::getline(in, first_line);
+  // No "OFF" at all: not an OFF file (OpenMesh's reader refused it as if it could not read it, an I/O
+  // error, where the other formats' garbage is invalid input). Anything else must be one of the
+  // variants [ST][C][N][4][n]OFF [BINARY], alone on its line.
+  if (first_line.find("OFF") == std::string::npos)
+    return failure(size == 0 ? "file is empty" : "file has no OFF keyword on its first line");
+  std::istringstream words(first_line);
+  std::string keyword, binary;
+  words >> keyword >> binary;
+  if (!isOffVariant(keyword) || (!binary.empty() && binary != "BINARY" && !isCount(binary)))
+    return failure("header '" + first_line.substr(0, 40) + "' is not OFF, COFF, NOFF, STOFF, 4OFF or nOFF");
+  // OpenMesh reads the counts after the keyword's line: on it, they went unread ("no faces"), and the
+  // guard, reading them there, had passed a file whose counts OpenMesh took from the vertices (a count
+  // of 3 * 10^11 kept it reading for ever: found by fuzzing).
+  if (isCount(binary))
+    return failure("header '" + first_line.substr(0, 40) + "' has its counts on the keyword's line: OpenMesh " +
+                   "reads them from the next line");
+  // OpenMesh refuses the n-dimensional and 4D variants itself.
+  if (keyword.find('n') != std::string::npos || keyword.find('4') != std::string::npos) return BakeStatus::success();
+  if (openMeshReadsBinary(first_line, keyword)) return checkOffBinary(in, size, keyword, failure);
+  // The next three words, across lines, as OpenMesh reads them (a comment there is not a count to it).
+  std::vector<std::string> counts;
+  for (std::string word; counts.size() < 3 && in >> word;)
+    counts.push_back(word);
+  if (counts.size() < 3) return failure("header does not give vertex, face and edge counts");
+  // The rest of the counts' line is not skipped: OpenMesh goes on reading there too (with no vertices,
+  // its faces begin there: fuzzing).
+  for (std::size_t n = 0; n < 3; ++n) {
+    if (!isCount(counts[n])) return failure("header count '" + counts[n] + "' is not a number");
+  }
+  // At least "0 0 0" and a line end per vertex and a digit and a line end per face.
+  const std::uint64_t vertices = std::stoull(counts[0]), faces = std::stoull(counts[1]);
+  if (vertices > size / 6 || faces > size / 2)
+    return failure("header counts " + counts[0] + " " + counts[1] + " are impossible in a file of " +
+                   std::to_string(size) + " bytes");
+  // OpenMesh reads a NOFF vertex's normal from the stream too (the rest of its line it reads apart).
+  const int numbers = keyword.find('N') != std::string::npos ? 6 : 3;
+  return checkOffBody(in, size, vertices, faces, numbers, failure);
+}
+
+} // namespace baker
+} // namespace dng
