@@ -195,6 +195,22 @@ TEST_F(MeshTest, BinaryOffCountsAndValencesMustFitTheFile) {
   EXPECT_NE(valence.message.find("face 1 claims 4294967280 vertices"), std::string::npos) << valence.message;
 }
 
+// OpenMesh reads an OBJ's material library to its end, whatever the baker asks: one that is a device
+// (/dev/zero took 5.8 GB in 20 s) or a FIFO is refused; a real one is read as before.
+TEST_F(MeshTest, ObjMaterialLibraryMustBeARegularFile) {
+  const std::string body = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(dir_ / "real.mtl") << "newmtl grey\nKd 0.5 0.5 0.5\n";
+  EXPECT_EQ(load(write("real.obj", "mtllib real.mtl\n" + body)).polygons, 1u);
+  std::error_code error;
+  fs::create_symlink("/dev/zero", dir_ / "zero.mtl", error);
+  ASSERT_FALSE(error) << error.message();
+  TriangleSoup soup;
+  const BakeStatus zero = loadMesh(write("zero.obj", "mtllib   zero.mtl  \n" + body), &soup);
+  EXPECT_EQ(zero.code, BakeError::kInvalidInput) << zero.message;
+  EXPECT_NE(zero.message.find("line 1: mtllib names 'zero.mtl', not a regular file"), std::string::npos)
+      << zero.message;
+}
+
 // OpenMesh's PLY reader reads as many corners as a face's count says, end of file or not: an ASCII face
 // of 2 * 10^9 corners took 20 GB before it gave up, and a binary one the same. It reads lists only as a
 // face's vertex_indices, so other lists, and face properties before them, are refused.

@@ -75,12 +75,40 @@ long long declaredStlFacets(const std::string& path) {
   return size == 84 + 50 * std::uint64_t(count) ? (long long)count : -1;
 }
 
+namespace {
+
+// Empty unless an OBJ's "mtllib" line (its rest from `rest`) names a file that is there and neither a
+// regular file nor a folder. OpenMesh opens the rest of the line, trimmed, beside the OBJ and reads it
+// to its end: /dev/zero there took 5.8 GB in 20 s, a FIFO would wait for ever. The baker reads no
+// materials, but OpenMesh's reader reads them whatever it is asked.
+std::string materialProblem(const std::string& obj_path, const char* rest, const char* end) {
+  std::string name(rest, end);
+  const std::size_t first = name.find_first_not_of(" \t\r\n"), last = name.find_last_not_of(" \t\r\n");
+  name = first == std::string::npos ? "" : name.substr(first, last - first + 1);
+  const std::size_t slash = obj_path.find_last_of('/');
+  const std::string target = (slash == std::string::npos ? "" : obj_path.substr(0, slash + 1)) + name;
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(target, error);
+  if (error || !std::filesystem::exists(status) || std::filesystem::is_regular_file(status) ||
+      std::filesystem::is_directory(status))
+    return {};
+  return "mtllib names '" + name.substr(0, 80) + "', not a regular file (OpenMesh's reader would read it to its end)";
+}
+
+} // namespace
+
 BakeStatus checkObjLines(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (std::uint64_t number = 1; std::getline(in, line); ++number) {
     const char* rest = nullptr;
     const std::string keyword = firstWord(line, &rest);
+    if (keyword == "mtllib") {
+      const std::string problem = materialProblem(path, rest, line.c_str() + line.size());
+      if (!problem.empty())
+        return BakeStatus::failure(BakeError::kInvalidInput,
+                                   "'" + path + "': line " + std::to_string(number) + ": " + problem);
+    }
     if (keyword == "v") {
       const std::string problem = coordinateProblem(rest);
       if (!problem.empty())
