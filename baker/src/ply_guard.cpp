@@ -296,6 +296,17 @@ BakeStatus checkPlyBinaryBody(std::istream& in, std::uint64_t size, const PlyLay
 
 namespace {
 
+// Where OpenMesh's header parse stands after the header line `raw`, which began at `line_start`: just
+// after its last word, or, for a comment (whose whole line it skips), at `next_line`. From there it takes
+// binary data to begin 12 bytes on (14 when a CR LF follows): "\nend_header\n".
+std::streamoff afterLastWord(const std::string& raw, std::streamoff line_start, std::streamoff next_line) {
+  std::string keyword;
+  std::istringstream(raw) >> keyword;
+  const std::size_t last = raw.find_last_not_of(" \t\r\v\f");
+  if (keyword == "comment" || last == std::string::npos) return next_line;
+  return line_start + std::streamoff(last + 1);
+}
+
 // Whether OpenMesh's reader takes a binary PLY's data to start where it does, at `in`'s position (just
 // after the end_header line), when the last word before end_header ends at `after_last_word`.
 bool binaryStartAgrees(std::istream& in, std::streamoff after_last_word) {
@@ -307,6 +318,21 @@ bool binaryStartAgrees(std::istream& in, std::streamoff after_last_word) {
   in.clear();
   in.seekg(data);
   return after_last_word + (c[0] == '\r' && c[1] == '\n' ? 14 : 12) == data;
+}
+
+// The checks after end_header (`in` just past it): the layout, where binary data begins, the body.
+BakeStatus checkPlyBody(std::istream& in, const std::string& path, std::uint64_t size, const PlyLayout& layout,
+                        std::streamoff after_last_word) {
+  const auto failure = [&](const std::string& where, const std::string& why) {
+    return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': PLY " + where + why);
+  };
+  if (const std::string problem = plyLayoutProblem(layout); !problem.empty()) return failure("header ", problem);
+  if (layout.format != "ascii" && !binaryStartAgrees(in, after_last_word))
+    return failure("header ", "ends where OpenMesh's reader does not find its binary data (a comment or trailing "
+                              "spaces just before end_header, or mixed line ends)");
+  const auto body = [&](const std::string& why) { return failure("", why); };
+  return layout.format == "ascii" ? checkPlyTextBody(in, size, layout, body)
+                                  : checkPlyBinaryBody(in, size, layout, body);
 }
 
 } // namespace
@@ -323,36 +349,19 @@ BakeStatus checkPlyHeader(const std::string& path) {
   std::string line;
   bool seen_element = false;
   PlyLayout layout;
-  // Where OpenMesh's reader ends its header: just after the last word it read before end_header (after
-  // a comment's whole line), as the stream's position, from which it takes binary data to begin 12 bytes
-  // on (14 when a CR LF follows).
-  std::streamoff after_last_word = 0, line_start = 0;
-  for (int n = 1; n <= 1000 && (line_start = in.tellg(), std::getline(in, line)); ++n) {
+  std::streamoff after_last_word = 0; // where OpenMesh's header parse stands (afterLastWord)
+  for (int n = 1; n <= 1000; ++n) {
+    const std::streamoff line_start = in.tellg();
+    if (!std::getline(in, line)) break;
     const std::string raw = line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (n == 1 && line != "ply") return failure("does not start with 'ply'");
     if (n == 1) continue;
-    if (line == "end_header") {
-      if (const std::string problem = plyLayoutProblem(layout); !problem.empty()) return failure(problem);
-      const auto body = [&](const std::string& why) {
-        return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': PLY " + why);
-      };
-      if (layout.format != "ascii" && !binaryStartAgrees(in, after_last_word))
-        return failure("ends where OpenMesh's reader does not find its binary data (a comment or trailing spaces "
-                       "just before end_header, or mixed line ends)");
-      return layout.format == "ascii" ? checkPlyTextBody(in, size, layout, body)
-                                      : checkPlyBinaryBody(in, size, layout, body);
-    }
+    if (line == "end_header") return checkPlyBody(in, path, size, layout, after_last_word);
     const std::string problem = plyLineProblem(line, size, &seen_element);
     if (!problem.empty()) return failure("line " + std::to_string(n) + " '" + line + "' " + problem);
     notePlyLine(line, &layout);
-    const std::size_t last = raw.find_last_not_of(" \t\r\v\f");
-    std::string keyword;
-    std::istringstream(raw) >> keyword;
-    if (keyword == "comment") // the reader skips the rest of a comment's line, its line end too
-      after_last_word = in.tellg();
-    else if (last != std::string::npos)
-      after_last_word = line_start + std::streamoff(last + 1);
+    after_last_word = afterLastWord(raw, line_start, in.tellg());
   }
   return failure("has no end_header line in its first 1000 lines");
 }
