@@ -98,6 +98,10 @@ TEST_F(MeshTest, ObjFaceVertexWithoutIndexAfterANulIsRefused) {
   const BakeStatus s = loadMesh(write("nul.obj", obj), &soup);
   EXPECT_EQ(s.code, BakeError::kInvalidInput);
   EXPECT_NE(s.message.find("face vertex '/1' has no vertex index"), std::string::npos) << s.message;
+  // The reader splits the keyword off at a vertical tab too (fuzzing: it asserted on this one).
+  const BakeStatus tab = loadMesh(write("tab.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\v/1 2 3\n"), &soup);
+  EXPECT_EQ(tab.code, BakeError::kInvalidInput) << tab.message;
+  EXPECT_NE(tab.message.find("line 4: face vertex '/1' has no vertex index"), std::string::npos) << tab.message;
 }
 
 // OpenMesh reads OFF faces as one stream of numbers: a face may go on over a line end, or follow a

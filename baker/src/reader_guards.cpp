@@ -101,8 +101,12 @@ BakeStatus checkObjLines(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (std::uint64_t number = 1; std::getline(in, line); ++number) {
-    const char* rest = nullptr;
-    const std::string keyword = firstWord(line, &rest);
+    // The keyword as OpenMesh's reader takes it, up to any white space, \v and \f too: read up to a
+    // blank only, "f\v/1" had hidden a face from the guard, and the '/1' made the reader assert (fuzzing).
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    const char* rest = line.c_str() + (words.eof() ? line.size() : std::size_t(words.tellg()));
     if (keyword == "mtllib") {
       const std::string problem = materialProblem(path, rest, line.c_str() + line.size());
       if (!problem.empty())
@@ -118,8 +122,8 @@ BakeStatus checkObjLines(const std::string& path) {
     if (keyword != "f") continue;
     // The whole rest of the line, NUL bytes and all, as OpenMesh's reader sees it: from `rest` as a C
     // string the words after a NUL went unchecked, and a '/1' there made the reader abort (fuzzing).
-    std::istringstream words(std::string(rest, line.c_str() + line.size()));
-    for (std::string vertex; words >> vertex;) {
+    std::istringstream vertices(std::string(rest, line.c_str() + line.size()));
+    for (std::string vertex; vertices >> vertex;) {
       if (vertex.front() == '/')
         return BakeStatus::failure(BakeError::kInvalidInput,
                                    "'" + path + "': line " + std::to_string(number) + ": face vertex '" + vertex +
