@@ -268,6 +268,12 @@ TEST_F(MeshTest, PlyCornerCountsMustFitTheFile) {
   EXPECT_EQ(load(write("exported.ply", exported)).polygons, 1u);
   EXPECT_NE(refused("before.ply", head + "property uchar red\n" + corners).find("face property 'red' comes before"),
             std::string::npos);
+  // OpenMesh reads the three words after "ply" as the format line, whatever they are (fuzzing: it looped
+  // for ever on a comment there).
+  EXPECT_NE(refused("late_format.ply", "ply\ncomment binary_little_endian x\nformat ascii 1.0\n" +
+                                           head.substr(head.find("element")) + corners)
+                .find("line 2 'comment binary_little_endian x' is not the format line"),
+            std::string::npos);
   // OpenMesh reads the words after obj_info as keywords (a comment's it skips).
   EXPECT_EQ(checkMesh(load(write("info.ply", head + "obj_info made by hand\ncomment element x 9\n" + corners +
                                                  "3 0 2 1\n3 0 1 3\n")))

@@ -357,6 +357,11 @@ BakeStatus checkPlyHeader(const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (n == 1 && line != "ply") return failure("does not start with 'ply'");
     if (n == 1) continue;
+    // OpenMesh takes the three words after "ply" for the format, whatever the first of them is, and a
+    // version that is not a number fails its stream: its header loop then never ends (fuzzing: a comment
+    // there, NUL bytes for a version).
+    if (n == 2 && line.compare(0, 7, "format ") != 0)
+      return failure("line 2 '" + line.substr(0, 40) + "' is not the format line, which OpenMesh reads there");
     if (line == "end_header") return checkPlyBody(in, path, size, layout, after_last_word);
     const std::string problem = plyLineProblem(line, size, &seen_element);
     if (!problem.empty()) return failure("line " + std::to_string(n) + " '" + line + "' " + problem);
