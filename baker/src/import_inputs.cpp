@@ -71,7 +71,6 @@ BakeStatus importOne(const std::string& path, const ImportOptions& options, Tria
   out_report->path = path;
   out_report->format = lowerExtension(path);
   if (BakeStatus readable = checkReadable(path); !readable.ok()) return readable;
-  if (out_report->format == "om") return openMeshNativeRefused(path);
   const ImportFn importer = importerFor(path);
   if (importer == nullptr)
     return BakeStatus::failure(BakeError::kUnsupported, "'" + path + "': unknown mesh format '." + out_report->format +
@@ -121,7 +120,7 @@ LengthUnit fieldUnit(const UnitOptions& units, const std::vector<ImportReport>& 
 
 ImportFn importerFor(const std::string& path) {
   const std::string ext = lowerExtension(path);
-  static const char* const kOpenMesh[] = {"obj", "off", "ply", "stl"};
+  static const char* const kOpenMesh[] = {"obj", "off", "ply", "stl", "om"}; // loadMesh refuses .om, saying why
   if (std::find(std::begin(kOpenMesh), std::end(kOpenMesh), ext) != std::end(kOpenMesh)) return &importOpenMesh;
   if (ext == "gltf" || ext == "glb") return &importGltf;
   return assimpReads(ext) ? &importAssimp : nullptr;

@@ -125,8 +125,6 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-} // namespace
-
 // OpenMesh's .om reader needs a whole OpenMesh mesh to read into (it refused the soup importer, so no
 // .om file ever loaded here), and it asserts on malformed chunks, which would abort a bake.
 BakeStatus openMeshNativeRefused(const std::string& path) {
@@ -134,6 +132,8 @@ BakeStatus openMeshNativeRefused(const std::string& path) {
                                                           "': OpenMesh's native .om format is not supported: save "
                                                           "the mesh as .obj, .off or .ply (OpenMesh writes all three)");
 }
+
+} // namespace
 
 BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   *out_soup = TriangleSoup();

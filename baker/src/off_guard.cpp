@@ -5,13 +5,10 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #include <vector>
 
@@ -31,10 +28,6 @@ bool isOffVariant(const std::string& keyword) {
   }
   return keyword.compare(at, std::string::npos, "OFF") == 0;
 }
-
-} // namespace
-
-namespace {
 
 // The next number as OpenMesh's `in >> unsigned` reads one: blanks (line ends too) skipped, then a sign
 // and the digits after it, the rest of the word left for the next read ("0-4" is 0, then -4). Empty
@@ -59,17 +52,22 @@ std::uint64_t unsignedValue(const std::string& number, std::uint64_t limit) {
   return std::stoull(digits.substr(first));
 }
 
-} // namespace
+// For a message: `number` (nextUnsigned's), or when it is empty the word the read stopped at.
+std::string offendingWord(std::istream& in, const std::string& number) {
+  std::string word = number;
+  in.clear();
+  if (word.empty()) in >> word;
+  return word.substr(0, 20);
+}
 
 // Each vertex line must start with three finite coordinates (six numbers with NOFF's normal: one the
 // stream cannot read fails it, and each face then reads the vertex count as its valence), and each
-// face must list as many indices
-// as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge number) and
-// tried to allocate 2 GB (found by fuzzing). OpenMesh reads a vertex per line but the faces as one
-// stream of numbers, line ends included (a face's valence may follow another face's indices on its
-// line), each read as far as its digits go, so the faces are checked the same way: read line by line,
-// a valence after a face of valence 0 had passed unchecked, and read word by word, an index "0-4" had
-// hidden the valence -4 that OpenMesh read after its 0; each made it allocate 2 GB (fuzzing).
+// face must list as many indices as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge
+// number) and tried to allocate 2 GB (found by fuzzing). OpenMesh reads a vertex per line but the faces as one stream
+// of numbers, line ends included (a face's valence may follow another face's indices on its line), each read as far as
+// its digits go, so the faces are checked the same way: read line by line, a valence after a face of valence 0 had
+// passed unchecked, and read word by word, an index "0-4" had hidden the valence -4 that OpenMesh read after its 0;
+// each made it allocate 2 GB (fuzzing).
 template <class Failure>
 BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces, int numbers,
                         Failure failure) {
@@ -90,14 +88,10 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vert
     if (in.peek() == std::char_traits<char>::eof()) break; // short: no more faces, and OpenMesh reads none
     const std::string valence = nextUnsigned(in);
     // At least a digit and a space per index.
-    if (valence.empty() || unsignedValue(valence, size / 2) > size / 2) {
-      in.clear();
-      std::string word;
-      in >> word;
-      return failure("face " + std::to_string(face) + " claims '" + (valence.empty() ? word : valence).substr(0, 20) +
+    const std::uint64_t claimed = valence.empty() ? UINT64_MAX : unsignedValue(valence, size / 2);
+    if (claimed > size / 2)
+      return failure("face " + std::to_string(face) + " claims '" + offendingWord(in, valence) +
                      "' vertices, not a count of indices the file can hold");
-    }
-    const std::uint64_t claimed = unsignedValue(valence, size / 2);
     for (std::uint64_t listed = 0; listed < claimed; ++listed) {
       in >> std::ws;
       if (in.peek() == std::char_traits<char>::eof())
@@ -105,18 +99,13 @@ BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vert
                        std::to_string(listed));
       // Beyond 32 bits the read fails, and every later one: each later face reads the last valence.
       const std::string index = nextUnsigned(in);
-      if (index.empty() || unsignedValue(index, UINT32_MAX) > UINT32_MAX) {
-        std::string word = index;
-        in.clear();
-        if (word.empty()) in >> word;
-        return failure("face " + std::to_string(face) + " lists '" + word.substr(0, 20) + "', not a vertex index");
-      }
+      if (index.empty() || unsignedValue(index, UINT32_MAX) > UINT32_MAX)
+        return failure("face " + std::to_string(face) + " lists '" + offendingWord(in, index) +
+                       "', not a vertex index");
     }
   }
   return BakeStatus::success();
 }
-
-namespace {
 
 // A little-endian 32-bit word from `in`; false at the end of the file.
 bool readLittle32(std::istream& in, std::uint32_t* out) {
@@ -132,8 +121,6 @@ bool openMeshReadsBinary(const std::string& line, const std::string& keyword) {
   return line.compare(0, keyword.size(), keyword) == 0 && line.size() >= keyword.size() + 7 &&
          line.compare(keyword.size() + 1, 6, "BINARY") == 0;
 }
-
-} // namespace
 
 // A binary OFF after its keyword's line, as OpenMesh 9.0 reads one (with the baker's reading options):
 // little-endian 32-bit counts of vertices, faces and edges; each vertex three floats, then three more
@@ -170,6 +157,8 @@ BakeStatus checkOffBinary(std::istream& in, std::uint64_t size, const std::strin
   }
   return BakeStatus::success();
 }
+
+} // namespace
 
 // OpenMesh 9.0's OFF reader trusts the counts too: "OFF\n0 -1 2" (a negative face count, found by
 // fuzzing) kept it reading for more than 10 s. The counts must be plain numbers the file can hold.

@@ -5,10 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -132,19 +129,23 @@ bool plyNumber(const char* begin, const char* end, const std::string& type) {
   return at == end && finiteNumber(begin, end);
 }
 
+// The properties OpenMesh's reader reads as numbers: a vertex's position, normal and texture
+// coordinates as floats, and colours (a face's without the diffuse_ names) by their type. The rest it
+// skips.
+const char* const kFloatNames[] = {"x", "y", "z", "nx", "ny", "nz", "u", "s", "v", "t"};
+const char* const kColourNames[] = {"red", "green", "blue", "alpha", "diffuse_red", "diffuse_green", "diffuse_blue"};
+
+template <std::size_t N> bool named(const PlyProperty& p, const char* const (&names)[N]) {
+  return std::find(std::begin(names), std::end(names), p.name) != std::end(names);
+}
+
 // How OpenMesh's ASCII reader reads property `p` of element `e`: "float" (positions, normals, texture
 // coordinates, whatever their declared type, and float colours), "int" (other colours, double ones
 // too), or "" for a word it skips.
 std::string textRead(const PlyElement& e, const PlyProperty& p) {
-  static const char* const kFloats[] = {"x", "y", "z", "nx", "ny", "nz", "u", "s", "v", "t"};
-  static const char* const kColours[] = {"red",         "green",         "blue",        "alpha",
-                                         "diffuse_red", "diffuse_green", "diffuse_blue"};
-  const auto in = [&p](const auto& names) {
-    return std::find(std::begin(names), std::end(names), p.name) != std::end(names);
-  };
-  if (e.name == "vertex" && in(kFloats)) return "float";
-  const bool colour = (e.name == "vertex" && in(kColours)) ||
-                      (e.name == "face" && in(kColours) && p.name.compare(0, 8, "diffuse_") != 0);
+  if (e.name == "vertex" && named(p, kFloatNames)) return "float";
+  const bool colour = (e.name == "vertex" && named(p, kColourNames)) ||
+                      (e.name == "face" && named(p, kColourNames) && p.name.compare(0, 8, "diffuse_") != 0);
   if (!colour) return "";
   return p.type == "float" || p.type == "float32" ? "float" : "int";
 }
@@ -153,13 +154,8 @@ std::string textRead(const PlyElement& e, const PlyProperty& p) {
 // position, normal or texture coordinate of an integer type, and a colour in double precision. It reads
 // such a value as nothing or as a float, and every value after it from the wrong bytes.
 std::string plyBinaryTypeProblem(const PlyElement& e, const PlyProperty& p) {
-  static const char* const kFloats[] = {"x", "y", "z", "nx", "ny", "nz", "u", "s", "v", "t"};
-  static const char* const kColours[] = {"red",         "green",         "blue",        "alpha",
-                                         "diffuse_red", "diffuse_green", "diffuse_blue"};
-  const bool float_read =
-      e.name == "vertex" && std::find(std::begin(kFloats), std::end(kFloats), p.name) != std::end(kFloats);
-  const bool colour = (e.name == "vertex" || e.name == "face") &&
-                      std::find(std::begin(kColours), std::end(kColours), p.name) != std::end(kColours);
+  const bool float_read = e.name == "vertex" && named(p, kFloatNames);
+  const bool colour = (e.name == "vertex" || e.name == "face") && named(p, kColourNames);
   if ((float_read && !isFloatType(p.type)) || (colour && plyTypeSize(p.type) == 8))
     return e.name + " property '" + p.name + "' is " + p.type + ": OpenMesh's binary reader misreads it";
   return {};
@@ -238,9 +234,10 @@ BakeStatus checkPlyTextBody(std::istream& in, std::uint64_t size, const PlyLayou
           continue;
         }
         const std::string count(begin, end);
-        if (!isCount(count) || std::stoull(count) > size / 2)
+        const std::uint64_t corners = isCount(count) ? std::stoull(count) : UINT64_MAX;
+        if (corners > size / 2)
           return failure(which + " claims '" + count.substr(0, 24) + "' corners, not a count the file can hold");
-        for (std::uint64_t corner = 0; corner < std::stoull(count); ++corner) {
+        for (std::uint64_t corner = 0; corner < corners; ++corner) {
           if (!next())
             return failure(which + " claims " + count + " corners and the file ends after " + std::to_string(corner));
           if (!plyNumber(begin, end, "int")) // read as an unsigned integer, whatever the declared type
@@ -291,10 +288,6 @@ BakeStatus checkPlyBinaryBody(std::istream& in, std::uint64_t size, const PlyLay
   }
   return BakeStatus::success();
 }
-
-} // namespace
-
-namespace {
 
 // Where OpenMesh's header parse stands after the header line `raw`, which began at `line_start`: just
 // after its last word, or, for a comment (whose whole line it skips), at `next_line`. From there it takes

@@ -3,17 +3,12 @@
 #include "reader_guards.h"
 #include "guard_text.h"
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
-#include <vector>
 
 namespace dng {
 namespace baker {
@@ -100,7 +95,12 @@ std::string materialProblem(const std::string& obj_path, const char* rest, const
 BakeStatus checkObjLines(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
-  for (std::uint64_t number = 1; std::getline(in, line); ++number) {
+  std::uint64_t number = 1;
+  const auto failure = [&](const std::string& problem) {
+    return BakeStatus::failure(BakeError::kInvalidInput,
+                               "'" + path + "': line " + std::to_string(number) + ": " + problem);
+  };
+  for (; std::getline(in, line); ++number) {
     // The keyword as OpenMesh's reader takes it, up to any white space, \v and \f too: read up to a
     // blank only, "f\v/1" had hidden a face from the guard, and the '/1' made the reader assert (fuzzing).
     std::istringstream words(line);
@@ -109,15 +109,11 @@ BakeStatus checkObjLines(const std::string& path) {
     const char* rest = line.c_str() + (words.eof() ? line.size() : std::size_t(words.tellg()));
     if (keyword == "mtllib") {
       const std::string problem = materialProblem(path, rest, line.c_str() + line.size());
-      if (!problem.empty())
-        return BakeStatus::failure(BakeError::kInvalidInput,
-                                   "'" + path + "': line " + std::to_string(number) + ": " + problem);
+      if (!problem.empty()) return failure(problem);
     }
     if (keyword == "v") {
       const std::string problem = coordinateProblem(rest);
-      if (!problem.empty())
-        return BakeStatus::failure(BakeError::kInvalidInput,
-                                   "'" + path + "': line " + std::to_string(number) + ": vertex " + problem);
+      if (!problem.empty()) return failure("vertex " + problem);
     }
     if (keyword != "f") continue;
     // The whole rest of the line, NUL bytes and all, as OpenMesh's reader sees it: from `rest` as a C
@@ -125,9 +121,7 @@ BakeStatus checkObjLines(const std::string& path) {
     std::istringstream vertices(std::string(rest, line.c_str() + line.size()));
     for (std::string vertex; vertices >> vertex;) {
       if (vertex.front() == '/')
-        return BakeStatus::failure(BakeError::kInvalidInput,
-                                   "'" + path + "': line " + std::to_string(number) + ": face vertex '" + vertex +
-                                       "' has no vertex index (OBJ needs v, v/vt, v//vn or v/vt/vn)");
+        return failure("face vertex '" + vertex + "' has no vertex index (OBJ needs v, v/vt, v//vn or v/vt/vn)");
     }
   }
   return BakeStatus::success();

@@ -46,12 +46,9 @@ struct TriangleSoup {
 
 /// Loads OBJ, OFF, PLY or STL with OpenMesh's readers. Errors: kIo when the file cannot be opened or
 /// parsed, kInvalidInput for what the reader guards refuse (reader_guards.h), kUnsupported for other
-/// extensions, OpenMesh's .om among them (openMeshNativeRefused). Not thread-safe (OpenMesh's IO
+/// extensions, OpenMesh's .om among them (with what to do instead). Not thread-safe (OpenMesh's IO
 /// registry and log streams are global).
 BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup);
-
-/// kUnsupported for `path`, an OpenMesh .om file, with what to do instead.
-BakeStatus openMeshNativeRefused(const std::string& path);
 
 MeshReport checkMesh(const TriangleSoup& soup);
 
