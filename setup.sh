@@ -15,7 +15,7 @@
 #   bash setup.sh format-check   check clang-format on every source file
 #   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
 #   bash setup.sh leaks          run the full leak table (particles judged on the triangles), write docs/LEAKS.md
-#   bash setup.sh fuzz [SECONDS] fuzz the loader (default 60 s) and dngdump (half that), replay regressions
+#   bash setup.sh fuzz [SECONDS] fuzz the loader (default 60 s), dngdump and the step (half that each), replay regressions
 #   bash setup.sh fuzz-meshes [SECONDS]  fuzz mesh loading, open-ended (default 300 s)
 #   bash setup.sh fuzz-scenes [SECONDS]  fuzz the glTF importer, open-ended (default 300 s)
 #   bash setup.sh fuzz-assimp [SECONDS]  fuzz assimp's readers in process, open-ended (default 300 s)
@@ -262,7 +262,7 @@ build_fuzzers() {
     -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF
 }
 
-# libFuzzer on View::open, then on dngdump's report path, seeded with the golden files and every file
+# libFuzzer on View::open, then on dngdump's report path and on stepParticles (scalar against SIMD), seeded with the golden files and every file
 # that once crashed dngdump; fails on any crash or sanitizer report. Then every mesh input that once
 # crashed, hung or exhausted memory in OpenMesh's readers, which must now be refused cleanly.
 # (Open-ended mesh fuzzing keeps finding new reader bugs: that is `fuzz-meshes`.)
@@ -274,6 +274,7 @@ cmd_fuzz() {
   "$build/tests/fuzz/fuzz_dump" "$ROOT"/tests/fuzz/dump_regressions/*
   "$build/tests/fuzz/fuzz_open" -max_total_time="$seconds" -max_len=65536 -print_final_stats=1 "$corpus"
   "$build/tests/fuzz/fuzz_dump" -max_total_time="$((seconds / 2))" -max_len=65536 -timeout=10 -print_final_stats=1 "$corpus"
+  "$build/tests/fuzz/fuzz_step" -max_total_time="$((seconds / 2))" -max_len=65536 -timeout=10 -print_final_stats=1 "$corpus"
   "$build/tests/fuzz/fuzz_mesh" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/mesh_regressions/*
   "$build/tests/fuzz/fuzz_gltf" -timeout=10 -rss_limit_mb=2048 "$ROOT"/tests/fuzz/gltf_regressions/*
 }

@@ -1,0 +1,139 @@
+// libFuzzer target for stepParticles on whatever View::open accepts: every file that opens becomes a
+// body (at rest; moving and turning; then three bodies, through a BodyIndex too), and a lattice of
+// particles with fast and slow velocities is stepped a few times with the scalar code and with the
+// widest SIMD set this CPU has.
+//
+// The runtime promises that a file it opened is safe to query: no crash, no sanitizer report, finite
+// results, and the SIMD kernels give the scalar code's bits. The walk reads more of a file than the
+// queries do (second planes, neighbour bounds, many cells per move), so it gets its own target.
+// Hashes are resealed as in fuzz_open.cpp, so mutations reach the validation rules and the step.
+#include "dng/body.h"
+#include "dng/body_index.h"
+#include "dng/format/writer.h"
+#include "dng/instruction_set.h"
+#include "dng/particles.h"
+#include "dng/view.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+namespace {
+
+constexpr int kParticles = 96;
+constexpr int kSteps = 3;
+
+struct Swarm {
+  std::vector<float> px, py, pz, vx, vy, vz;
+  std::vector<std::uint8_t> contact;
+  std::vector<std::int32_t> body;
+
+  dng::ParticleSpan span() {
+    dng::ParticleSpan s;
+    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
+    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
+    s.count = px.size();
+    s.out_contact = contact.data(), s.out_body = body.data();
+    return s;
+  }
+  bool finite() const {
+    for (std::size_t n = 0; n < px.size(); ++n)
+      if (!std::isfinite(px[n]) || !std::isfinite(py[n]) || !std::isfinite(pz[n]) || !std::isfinite(vx[n]) ||
+          !std::isfinite(vy[n]) || !std::isfinite(vz[n]))
+        return false;
+    return true;
+  }
+};
+
+bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
+  return std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+bool sameResults(const Swarm& a, const Swarm& b) {
+  return sameBits(a.px, b.px) && sameBits(a.py, b.py) && sameBits(a.pz, b.pz) && sameBits(a.vx, b.vx) &&
+         sameBits(a.vy, b.vy) && sameBits(a.vz, b.vz) && a.contact == b.contact && a.body == b.body;
+}
+
+// A lattice over the grid and a little beyond, each particle moving 0.05 to about 4 voxels per step
+// in a direction of its own: slow ones settle by the balls, fast ones walk cell by cell.
+Swarm lattice(const dng::GridInfo& g, float dt) {
+  Swarm s;
+  for (int n = 0; n < kParticles; ++n) {
+    const float t[3] = {float(n % 4) / 3.0f, float((n / 4) % 4) / 3.0f, float((n / 16) % 6) / 5.0f};
+    const float span[3] = {float(g.dims[0]), float(g.dims[1]), float(g.dims[2])};
+    s.px.push_back(g.origin.x + (t[0] * 1.1f - 0.05f) * span[0] * g.voxel_size);
+    s.py.push_back(g.origin.y + (t[1] * 1.1f - 0.05f) * span[1] * g.voxel_size);
+    s.pz.push_back(g.origin.z + (t[2] * 1.1f - 0.05f) * span[2] * g.voxel_size);
+    const float speed = g.voxel_size / dt * (n % 3 == 0 ? 0.05f : n % 3 == 1 ? 0.7f : 4.0f);
+    const float a = 2.399963f * float(n), z = 1.0f - 2.0f * (float(n) + 0.5f) / float(kParticles);
+    const float r = std::sqrt(1.0f - z * z);
+    s.vx.push_back(speed * r * std::cos(a)), s.vy.push_back(speed * r * std::sin(a)), s.vz.push_back(speed * z);
+  }
+  s.contact.assign(s.px.size(), 0);
+  s.body.assign(s.px.size(), -2);
+  return s;
+}
+
+// Steps `swarm` kSteps times with `set`, through the index when there is one; false when the step
+// refused the call.
+bool run(dng::InstructionSet set, const std::vector<dng::Body>& bodies, const dng::BodyIndex* index, float dt,
+         Swarm* swarm) {
+  if (dng::setInstructionSet(set) != dng::Status::kOk) std::abort();
+  for (int step = 0; step < kSteps; ++step) {
+    const dng::Status status =
+        index != nullptr ? dng::stepParticles(swarm->span(), dt, bodies.data(), bodies.size(), *index, nullptr)
+                         : dng::stepParticles(swarm->span(), dt, bodies.data(), bodies.size(), nullptr);
+    if (status != dng::Status::kOk) return false;
+  }
+  return true;
+}
+
+// The scalar step and the widest SIMD step from the same swarm, and with several bodies the SIMD step
+// through a BodyIndex too: all finite, all the same bits.
+void compare(const std::vector<dng::Body>& bodies, float dt) {
+  Swarm scalar = lattice(bodies[0].field()->grid(), dt), wide = scalar, indexed = scalar;
+  const bool scalar_ok = run(dng::InstructionSet::kScalar, bodies, nullptr, dt, &scalar);
+  const bool wide_ok = run(dng::bestInstructionSet(), bodies, nullptr, dt, &wide);
+  if (scalar_ok != wide_ok) std::abort();
+  if (!scalar_ok) return;
+  if (!scalar.finite() || !wide.finite() || !sameResults(scalar, wide)) std::abort();
+  if (bodies.size() < 2) return;
+  dng::BodyIndex index;
+  if (index.rebuild(bodies.data(), bodies.size(), dt) != dng::Status::kOk) std::abort(); // the step took them
+  if (!run(dng::bestInstructionSet(), bodies, &index, dt, &indexed) || !sameResults(scalar, indexed)) std::abort();
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  std::vector<std::uint8_t> bytes(data, data + size); // operator new: 8-byte aligned, as open() needs
+  dng::format::resealHashes(bytes);
+  dng::View view;
+  if (dng::View::open(bytes.data(), bytes.size(), &view) != dng::Status::kOk) return 0;
+  const float dt = 1.0f / 60.0f;
+  dng::Material material; // impact with drag and flow near the surface, as Table 1 steps
+  const float h = view.grid().voxel_size;
+  material.collision_distance = 0.1f * h, material.drag = 2.0f, material.contact_distance = h;
+  material.flow_in = 5.0f * h, material.flow_out = -2.0f * h, material.flow_distance = h;
+  dng::Body body;
+  if (dng::Body::create(&view, material, &body) != dng::Status::kOk) return 0; // e.g. a band too thin to step
+  compare({body}, dt);
+  // Moving and turning, swept, with the spring response: the walk between two poses. Then beside the
+  // resting body and a third, offset one that only drags: the several-body kernels and the index.
+  dng::Body moving = body;
+  material.response = dng::Response::kSpring, material.swept = true;
+  if (moving.setMaterial(material) != dng::Status::kOk) std::abort();
+  const float turn[4] = {0.96f, 0.1f, 0.2f, 0.15f};
+  if (moving.setTransform({h, -2.0f * h, 0.5f * h}, turn, 1.5f) != dng::Status::kOk) return 0;
+  moving.setVelocity({3.0f * h / dt, 0.0f, -h / dt}, {0.0f, 0.4f / dt, 0.1f / dt});
+  compare({moving}, dt);
+  dng::Body dragging = body;
+  material.response = dng::Response::kNone, material.swept = false;
+  if (dragging.setMaterial(material) != dng::Status::kOk) std::abort();
+  const float still[4] = {1.0f, 0.0f, 0.0f, 0.0f};
+  if (dragging.setTransform({-3.0f * h, 2.0f * h, 4.0f * h}, still, 1.0f) != dng::Status::kOk) return 0;
+  compare({body, moving, dragging}, dt);
+  return 0;
+}
