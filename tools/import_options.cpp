@@ -36,7 +36,7 @@ void addImportOptions(CLI::App& app, baker::BakeInputs& inputs) {
       ->check(lengthUnit());
   app.add_option_function<std::string>(
          "--source-units", [&inputs](const std::string& name) { baker::parseLengthUnit(name, &inputs.units.assumed); },
-         "the unit of inputs that do not say theirs (OBJ, OFF, PLY, STL, OM, ...)")
+         "the unit of inputs that do not say theirs (OBJ, OFF, PLY, STL, ...)")
       ->check(lengthUnit());
   app.add_option("--scale", inputs.units.scale, "multiply every coordinate by this, after unit conversion (> 0)")
       ->check(finitePositive());
