@@ -365,6 +365,10 @@ TEST_F(ImportTest, BadScenesGetTheirExitCodeAMessageAndNoOutput) {
   GltfFile missing = good;
   missing.json["buffers"][0]["uri"] = "gone.bin";
   saveGltf(missing, path("missing.gltf"), GltfStorage::kExternalBin);
+  GltfFile folder = good; // a buffer that is there but no file: a folder, as a FIFO or a device would be
+  folder.json["buffers"][0]["uri"] = "folder.bin";
+  std::filesystem::create_directory(path("folder.bin"));
+  saveGltf(folder, path("folder.gltf"), GltfStorage::kExternalBin);
   GltfFile range = good;
   range.json["accessors"][0]["count"] = 1000;
   saveGltf(range, path("range.gltf"), GltfStorage::kEmbedded);
@@ -390,6 +394,7 @@ TEST_F(ImportTest, BadScenesGetTheirExitCodeAMessageAndNoOutput) {
       {"truncated.glb", {"truncated", 3, "truncated.glb"}},
       {"outside.gltf", {"outside", 3, "outside the file's folder"}},
       {"missing.gltf", {"missing", 2, "does not exist"}},
+      {"folder.gltf", {"folder", 2, "a buffer file is not a regular file: '"}},
       {"range.gltf", {"range", 3, "reaches outside its buffer view"}},
       {"bad_index.gltf", {"index", 3, "refers to vertex 200"}},
       {"nan.gltf", {"nan", 3, "NaN"}},

@@ -72,9 +72,10 @@ Vec3f transformPoint(const Matrix& m, Vec3f p) {
 // must not reach "../../etc/passwd" or another project's assets. tinygltf asks through these callbacks;
 // what they refused is remembered so the error can say why.
 struct ExternalFiles {
-  fs::path folder;     // canonical folder of the .gltf
-  std::string outside; // first URI refused for leaving the folder
-  std::string missing; // first URI that does not exist
+  fs::path folder;             // canonical folder of the .gltf
+  std::string outside;         // first URI refused for leaving the folder
+  std::string missing;         // first URI that is not a regular file there
+  bool missing_exists = false; // it is there, but a folder, device, FIFO or socket
   static bool exists(const std::string& path, void* self) {
     auto* files = static_cast<ExternalFiles*>(self);
     // tinygltf tries the file's folder (absolute: loadModel passes an absolute path), then "./": the
@@ -90,7 +91,7 @@ struct ExternalFiles {
       return false;
     }
     if (!fs::is_regular_file(resolved, error)) {
-      if (files->missing.empty()) files->missing = path;
+      if (files->missing.empty()) files->missing = path, files->missing_exists = fs::exists(resolved, error);
       return false;
     }
     return true;
@@ -113,7 +114,7 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
 BakeStatus loadModel(const std::string& path, bool binary, tinygltf::Model* out_model, ImportReport* report) {
   std::error_code error;
   const std::string absolute = fs::absolute(path, error).string();
-  ExternalFiles files{fs::weakly_canonical(fs::path(absolute).parent_path(), error), {}, {}};
+  ExternalFiles files{fs::weakly_canonical(fs::path(absolute).parent_path(), error), {}, {}, false};
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks(
       {&ExternalFiles::exists, &ExternalFiles::expand, &ExternalFiles::read, &ExternalFiles::write, &files});
@@ -136,7 +137,10 @@ BakeStatus loadModel(const std::string& path, bool binary, tinygltf::Model* out_
     return BakeStatus::failure(BakeError::kInvalidInput,
                                "a buffer URI points outside the file's folder: '" + files.outside + "'");
   if (!files.missing.empty())
-    return BakeStatus::failure(BakeError::kIo, "a buffer file does not exist: '" + files.missing + "'");
+    return BakeStatus::failure(BakeError::kIo,
+                               std::string(files.missing_exists ? "a buffer file is not a regular file: '"
+                                                                : "a buffer file does not exist: '") +
+                                   files.missing + "'");
   return BakeStatus::failure(BakeError::kInvalidInput, "tinygltf could not read it: " + err);
 }
 
