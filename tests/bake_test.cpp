@@ -945,6 +945,20 @@ TEST_F(BakeTest, ProgramReportsJsonAndVersion) {
   EXPECT_EQ(runDngbake("--help").exit_code, 0);
 }
 
+// A report that could not be written (here /dev/full, as on a full disk) is an I/O error, not a
+// success a script would read an empty report after. The .dng itself is whole: only the report is lost.
+TEST_F(BakeTest, LostJsonReportIsAnIoError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("box.obj"));
+  const ProgramRun run = testing::runProgram(testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + path("box.obj") + " -o " +
+                                             path("box.dng") + " --resolution 16 --json 2>&1 >/dev/full");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("dngbake: error: cannot write to standard output"), std::string::npos) << run.output;
+  File file;
+  ASSERT_EQ(File::open(path("box.dng").c_str(), &file), Status::kOk);
+  EXPECT_EQ(file.view().verifyHashes(), Status::kOk);
+}
+
 } // namespace
 } // namespace baker
 } // namespace dng

@@ -190,6 +190,21 @@ TEST_F(DumpTest, SliceIsAPictureWithTheContourWhereTheSurfaceIs) {
   EXPECT_TRUE(fs::is_directory(dir_ + "/pictures"));
 }
 
+// Output that could not be written (here /dev/full, as on a full disk) is an I/O error in every mode
+// that writes to standard output, not a success with a cut or empty report.
+TEST_F(DumpTest, LostStandardOutputIsAnIoError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  for (const char* args : {"box.dng", "box.dng --json", "box.dng --stats", "box.dng --check", "box.dng --query"}) {
+    SCOPED_TRACE(args);
+    const testing::ProgramRun run =
+        testing::runProgram("cd '" + dir_ + "' && echo 0 0 0 | " + testing::shellQuoted(DNG_DNGDUMP_PATH) + " " + args +
+                            " 2>&1 >/dev/full");
+    EXPECT_EQ(run.exit_code, 2) << run.output;
+    EXPECT_NE(run.output.find("dngdump: error: cannot write to standard output"), std::string::npos) << run.output;
+  }
+  EXPECT_EQ(dngdump(dir_, "box.dng").exit_code, 0); // and where it can write, nothing changes
+}
+
 // --points names a file of points: a folder is an I/O error (it had read as no points at all).
 TEST_F(DumpTest, QueryPointsFromAFolderAreAnIoError) {
   fs::create_directory(dir_ + "/points");

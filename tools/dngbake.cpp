@@ -5,6 +5,7 @@
 #include "command_line.h"
 #include "exit_codes.h"
 #include "import_options.h"
+#include "standard_output.h"
 #include "terminal.h"
 
 #include <CLI/CLI.hpp>
@@ -213,8 +214,8 @@ int main(int argc, char** argv) {
   if (!status.ok()) {
     std::fprintf(stderr, "dngbake: %s%s\n",
                  status.code == BakeError::kCancelled ? "" : "error: ", failureMessage(cl, status).c_str());
-    return exitCodeFor(status.code);
+    return finishStandardOutput("dngbake", exitCodeFor(status.code));
   }
   if (!cl.quiet && !cl.json) printSummary(cl, report);
-  return kExitOk;
+  return finishStandardOutput("dngbake", kExitOk); // the .dng is whole either way: only the report was lost
 }

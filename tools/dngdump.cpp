@@ -4,6 +4,7 @@
 #include "dump_json.h"
 
 #include "command_line.h"
+#include "standard_output.h"
 
 #include <CLI/CLI.hpp>
 
@@ -188,11 +189,11 @@ int main(int argc, char** argv) {
   Diagnostic diag;
   if (File::open(cl.file.c_str(), &file, &diag) != Status::kOk) {
     printFinding(cl, diag);
-    return exitFor(diag.status);
+    return finishStandardOutput("dngdump", exitFor(diag.status));
   }
   // The reports allocate (the slice picture, JSON); running out of memory is an error, not an abort.
   try {
-    return run(cl, file.view());
+    return finishStandardOutput("dngdump", run(cl, file.view()));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dngdump: %s: internal error: %s\n", cl.file.c_str(), e.what());
     return kExitInternal;
