@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
       contacts += c;
     trails.record(step, particles.px, particles.py, particles.pz);
   }
-  trails.write();
+  const bool pictures_written = trails.write();
 
   // Where the field reads below zero: information only (see the top of this file).
   const std::size_t count = particles.px.size();
@@ -163,5 +163,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s: cannot write %s\n", argv[0], command_line.positional[3].c_str());
     return 2;
   }
-  return 0;
+  return dng::samples::exitCode(0, pictures_written);
 }

@@ -93,9 +93,10 @@ struct Stream {
 constexpr float kDiskRadius = 0.7f;
 constexpr float kPast = 3.5f; // along the stream from `from`: beyond the sphere
 
-// Runs one stream, prints its two JSON lines and returns how many particles ended inside the sphere.
-std::size_t run(const Stream& stream, const dng::View& field, const dng::samples::CommandLine& command_line,
-                const std::string& folder) {
+// Runs one stream, prints its two JSON lines and returns its exit code (dng::samples::exitCode: 1 when
+// a particle ended inside the sphere).
+int run(const Stream& stream, const dng::View& field, const dng::samples::CommandLine& command_line,
+        const std::string& folder) {
   dng::Material material; // no bounce: surface flow steers the particles around (§3.6)
   material.restitution = 0.0f;
   material.collision_distance = 0.02f;
@@ -142,7 +143,7 @@ std::size_t run(const Stream& stream, const dng::View& field, const dng::samples
       contacts += c;
     trails.record(step, particles.px, particles.py, particles.pz);
   }
-  trails.write();
+  const bool pictures_written = trails.write();
 
   // Of the particles that started aimed at the sphere (within half the disk), who got past it, and how
   // far from the axis?
@@ -170,7 +171,7 @@ std::size_t run(const Stream& stream, const dng::View& field, const dng::samples
   const float mean_offset = past ? float(offset_sum / double(past)) : 0.0f;
   std::printf("{\"sample\":\"%s\",\"fraction_downstream\":%.3f,\"mean_downstream_offset\":%.3f}\n", stream.name,
               double(fraction_downstream), double(mean_offset));
-  return inside;
+  return dng::samples::exitCode(inside == 0 ? 0 : 1, pictures_written);
 }
 
 } // namespace
@@ -187,7 +188,10 @@ int main(int argc, char** argv) {
   }
   const Stream streams[] = {{"fig6a_from_side", {-2.5f, 0, 0}, {1, 0, 0}, 3.0f, false},
                             {"fig6b_from_above", {0, 0, 2.5f}, {0, 0, -1}, 2.0f, true}};
-  for (const Stream& stream : streams)
-    if (run(stream, field, command_line, folder) != 0) return 1;
-  return 0;
+  int code = 0; // every stream runs; the first one's failure is the exit code
+  for (const Stream& stream : streams) {
+    const int stream_code = run(stream, field, command_line, folder);
+    code = code != 0 ? code : stream_code;
+  }
+  return code;
 }

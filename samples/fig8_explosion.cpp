@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
       contacts += c;
     trails.record(step, particles.px, particles.py, particles.pz);
   }
-  trails.write();
+  const bool pictures_written = trails.write();
 
   // Judged on the true boxes, not on the fields: inside the ground or any building? Beyond the ring?
   std::size_t inside = 0, beyond = 0;
@@ -193,5 +193,5 @@ int main(int argc, char** argv) {
               (unsigned long long)contacts, inside);
   const float fraction_beyond = float(beyond) / float(count);
   std::printf("{\"sample\":\"fig8_explosion\",\"fraction_beyond_buildings\":%.3f}\n", double(fraction_beyond));
-  return inside == 0 ? 0 : 1;
+  return dng::samples::exitCode(inside == 0 ? 0 : 1, pictures_written);
 }

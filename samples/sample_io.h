@@ -1,5 +1,5 @@
 // The incidental parts the picture-making samples share, so that each sample's own file holds only its
-// scene: the command line, and PNG pictures of particle trails. Nothing here steps particles or touches
+// scene: the command line, the exit code, and PNG pictures of particle trails. Nothing here steps particles or touches
 // a field's data beyond sampling it to draw the bodies. Header-only; needs libpng.
 //
 // Command line: positional arguments, and anywhere among them
@@ -38,6 +38,15 @@ inline void require(Status status, const Diagnostic& diag) {
   if (status == Status::kOk) return;
   std::fprintf(stderr, "error: %s\n", diag.message);
   std::exit(2);
+}
+
+/// The exit code a sample ends with: its verdict (0, or 1 when a particle ended inside), or else 2 when
+/// something it wrote was lost: a picture (`files_written` false) or its JSON lines on standard output
+/// (a full disk). Flushes standard output to know.
+inline int exitCode(int verdict, bool files_written) {
+  const bool printed = std::fflush(stdout) == 0 && !std::ferror(stdout);
+  if (!printed) std::fprintf(stderr, "cannot write to standard output\n");
+  return verdict != 0 ? verdict : files_written && printed ? 0 : 2;
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -222,16 +231,19 @@ public:
     }
   }
 
-  /// Writes both files; says so on stderr when one cannot be written (the run's results stand).
-  void write() const {
-    if (prefix_.empty()) return;
-    writeOrComplain(side_, prefix_ + "_side.png");
-    writeOrComplain(top_, prefix_ + "_top.png");
+  /// Writes both files. False, having said which on stderr, when one cannot be written: the run's
+  /// results stand, and exitCode() turns the loss into exit code 2.
+  bool write() const {
+    if (prefix_.empty()) return true;
+    const bool side = writeOrComplain(side_, prefix_ + "_side.png");
+    return writeOrComplain(top_, prefix_ + "_top.png") && side;
   }
 
 private:
-  static void writeOrComplain(const Picture& picture, const std::string& path) {
-    if (!picture.write(path)) std::fprintf(stderr, "cannot write %s\n", path.c_str());
+  static bool writeOrComplain(const Picture& picture, const std::string& path) {
+    if (picture.write(path)) return true;
+    std::fprintf(stderr, "cannot write %s\n", path.c_str());
+    return false;
   }
 
   std::string prefix_;

@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
     }
     trails.record(step, particles.px, particles.py, particles.pz);
   }
-  trails.write();
+  const bool pictures_written = trails.write();
 
   // "Inside" as the field sees it: where it reads below zero (the same count as every other sample's);
   // reported only, as a sheet has no inside (see the top of this file).
@@ -169,5 +169,5 @@ int main(int argc, char** argv) {
               count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
               (unsigned long long)contacts, inside);
   std::printf("{\"sample\":\"thin_sheet\",\"crossed\":%zu}\n", crossed_count);
-  return crossed_count == 0 ? 0 : 1;
+  return dng::samples::exitCode(crossed_count == 0 ? 0 : 1, pictures_written);
 }

@@ -85,6 +85,21 @@ TEST(Samples, Fig3WritesASideAndATopPicturePerVariant) {
   }
 }
 
+// A picture or a JSON line that cannot be written is exit code 2 (docs/SAMPLES.md), not a success with
+// the output missing: here a folder stands where the first picture goes, and then stdout is /dev/full.
+TEST(Samples, LostPicturesAndLinesAreExitCode2) {
+  TempDir dir("samples_lost");
+  std::filesystem::create_directory(dir.file("fig3a_bouncy_side.png"));
+  const SampleOutput lost_picture = runProgramSmall("fig3_falling", quoted(dir.path().string()), 50, true);
+  EXPECT_EQ(lost_picture.exit_code, 2) << lost_picture.text;
+  for (const char* variant : {"fig3a_bouncy", "fig3b_slippery", "fig3c_drag"}) // every run's results stand
+    EXPECT_EQ(lost_picture.get(variant, "particles"), 50) << variant;
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  const ProgramRun lost_lines = runProgram(quoted(std::string(DNG_SAMPLES_DIR) + "/dng_fig8_explosion") + " " +
+                                           quoted(dir.path().string()) + " --particles 50 --no-pictures >/dev/full");
+  EXPECT_EQ(lost_lines.exit_code, 2);
+}
+
 // Fig. 6: the stream goes around the sphere (ending far off its axis), not through it.
 TEST(Samples, Fig6StreamFlowsAroundTheSphere) {
   TempDir dir("samples_fig6");
