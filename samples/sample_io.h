@@ -1,6 +1,6 @@
 // The incidental parts the picture-making samples share, so that each sample's own file holds only its
-// scene: the command line, the exit code, and PNG pictures of particle trails. Nothing here steps particles or touches
-// a field's data beyond sampling it to draw the bodies. Header-only; needs libpng.
+// scene: the command line, the exit code, and PNG pictures of particle trails. Nothing here steps
+// particles or touches a field's data beyond sampling it to draw the bodies. Header-only; needs libpng.
 //
 // Command line: positional arguments, and anywhere among them
 //   --particles N   about N particles instead of the sample's full size (the tests run small scenes)
