@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 namespace {
@@ -38,8 +39,9 @@ struct Swarm {
     s.out_contact = contact.data(), s.out_body = body.data();
     return s;
   }
+  // Whether the lattice's particles (finite ones, the first kParticles) stayed finite.
   bool finite() const {
-    for (std::size_t n = 0; n < px.size(); ++n)
+    for (std::size_t n = 0; n < std::size_t(kParticles); ++n)
       if (!std::isfinite(px[n]) || !std::isfinite(py[n]) || !std::isfinite(pz[n]) || !std::isfinite(vx[n]) ||
           !std::isfinite(vy[n]) || !std::isfinite(vz[n]))
         return false;
@@ -70,6 +72,19 @@ Swarm lattice(const dng::GridInfo& g, float dt) {
     const float a = 2.399963f * float(n), z = 1.0f - 2.0f * (float(n) + 0.5f) / float(kParticles);
     const float r = std::sqrt(1.0f - z * z);
     s.vx.push_back(speed * r * std::cos(a)), s.vy.push_back(speed * r * std::sin(a)), s.vz.push_back(speed * z);
+  }
+  // And particles a buggy emitter would hand over: NaN and infinite numbers, a move that overflows.
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const float centre[3] = {g.origin.x + 0.5f * float(g.dims[0]) * g.voxel_size,
+                           g.origin.y + 0.5f * float(g.dims[1]) * g.voxel_size,
+                           g.origin.z + 0.5f * float(g.dims[2]) * g.voxel_size};
+  const float hostile[][6] = {
+      {nan, centre[1], centre[2], 0, 0, 0},         {centre[0], centre[1], centre[2], nan, 0, 0},
+      {centre[0], centre[1], centre[2], inf, 0, 0}, {centre[0], centre[1], centre[2], 3e38f, 0, 0},
+      {3e38f, centre[1], centre[2], -3e38f, 0, 0},  {-inf, centre[1], centre[2], inf, 0, 0}};
+  for (const auto& h : hostile) {
+    s.px.push_back(h[0]), s.py.push_back(h[1]), s.pz.push_back(h[2]);
+    s.vx.push_back(h[3]), s.vy.push_back(h[4]), s.vz.push_back(h[5]);
   }
   s.contact.assign(s.px.size(), 0);
   s.body.assign(s.px.size(), -2);
