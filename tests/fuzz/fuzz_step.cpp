@@ -1,7 +1,7 @@
 // libFuzzer target for stepParticles on whatever View::open accepts: every file that opens becomes a
 // body (at rest; moving and turning; then three bodies, through a BodyIndex too), and a lattice of
-// particles with fast and slow velocities is stepped a few times with the scalar code and with the
-// widest SIMD set this CPU has.
+// particles with fast and slow velocities is stepped a few times with the scalar code and with every
+// SIMD set this CPU has.
 //
 // The runtime promises that a file it opened is safe to query: no crash, no sanitizer report, finite
 // results, and the SIMD kernels give the scalar code's bits. The walk reads more of a file than the
@@ -91,11 +91,9 @@ Swarm lattice(const dng::GridInfo& g, float dt) {
   return s;
 }
 
-// Steps `swarm` kSteps times with `set`, through the index when there is one; false when the step
-// refused the call.
-bool run(dng::InstructionSet set, const std::vector<dng::Body>& bodies, const dng::BodyIndex* index, float dt,
-         Swarm* swarm) {
-  if (dng::setInstructionSet(set) != dng::Status::kOk) std::abort();
+// Steps `swarm` kSteps times with the instruction set in use, through the index when there is one;
+// false when the step refused the call.
+bool run(const std::vector<dng::Body>& bodies, const dng::BodyIndex* index, float dt, Swarm* swarm) {
   for (int step = 0; step < kSteps; ++step) {
     const dng::Status status =
         index != nullptr ? dng::stepParticles(swarm->span(), dt, bodies.data(), bodies.size(), *index, nullptr)
@@ -105,19 +103,26 @@ bool run(dng::InstructionSet set, const std::vector<dng::Body>& bodies, const dn
   return true;
 }
 
-// The scalar step and the widest SIMD step from the same swarm, and with several bodies the SIMD step
-// through a BodyIndex too: all finite, all the same bits.
+// The scalar step, then every SIMD set this build and CPU have, from the same swarm, and with several
+// bodies each set through a BodyIndex too: all finite, all the same bits.
 void compare(const std::vector<dng::Body>& bodies, float dt) {
-  Swarm scalar = lattice(bodies[0].field()->grid(), dt), wide = scalar, indexed = scalar;
-  const bool scalar_ok = run(dng::InstructionSet::kScalar, bodies, nullptr, dt, &scalar);
-  const bool wide_ok = run(dng::bestInstructionSet(), bodies, nullptr, dt, &wide);
-  if (scalar_ok != wide_ok) std::abort();
-  if (!scalar_ok) return;
-  if (!scalar.finite() || !wide.finite() || !sameResults(scalar, wide)) std::abort();
-  if (bodies.size() < 2) return;
+  const Swarm start = lattice(bodies[0].field()->grid(), dt);
+  Swarm scalar = start;
+  if (dng::setInstructionSet(dng::InstructionSet::kScalar) != dng::Status::kOk) std::abort();
+  const bool scalar_ok = run(bodies, nullptr, dt, &scalar);
+  if (scalar_ok && !scalar.finite()) std::abort();
   dng::BodyIndex index;
-  if (index.rebuild(bodies.data(), bodies.size(), dt) != dng::Status::kOk) std::abort(); // the step took them
-  if (!run(dng::bestInstructionSet(), bodies, &index, dt, &indexed) || !sameResults(scalar, indexed)) std::abort();
+  if (scalar_ok && bodies.size() > 1 && index.rebuild(bodies.data(), bodies.size(), dt) != dng::Status::kOk)
+    std::abort(); // the step took these bodies, so the index must
+  for (dng::InstructionSet set : dng::kInstructionSets) {
+    if (set == dng::InstructionSet::kScalar || dng::setInstructionSet(set) != dng::Status::kOk) continue;
+    Swarm wide = start;
+    if (run(bodies, nullptr, dt, &wide) != scalar_ok) std::abort();
+    if (scalar_ok && !sameResults(scalar, wide)) std::abort();
+    if (!scalar_ok || bodies.size() < 2) continue;
+    Swarm indexed = start;
+    if (!run(bodies, &index, dt, &indexed) || !sameResults(scalar, indexed)) std::abort();
+  }
 }
 
 } // namespace
