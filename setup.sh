@@ -262,9 +262,10 @@ build_fuzzers() {
     -DDNG_BUILD_BAKER=OFF -DDNG_BUILD_TESTS=OFF -DDNG_BUILD_SAMPLES=OFF -DDNG_BUILD_BENCH=OFF
 }
 
-# libFuzzer on View::open, then on dngdump's report path and on stepParticles (scalar against SIMD), seeded with the golden files and every file
-# that once crashed dngdump; fails on any crash or sanitizer report. Then every mesh input that once
-# crashed, hung or exhausted memory in OpenMesh's readers, which must now be refused cleanly.
+# libFuzzer on View::open, then on dngdump's report path and on stepParticles (scalar against every SIMD
+# set), seeded with the golden files and every file that once crashed dngdump; fails on any crash or
+# sanitizer report. Then every mesh input that once crashed, hung or exhausted memory in OpenMesh's
+# readers, which must now be refused cleanly.
 # (Open-ended mesh fuzzing keeps finding new reader bugs: that is `fuzz-meshes`.)
 cmd_fuzz() {
   build_fuzzers

@@ -25,6 +25,7 @@
 #include "dng/file.h"
 #include "dng/instruction_set.h"
 #include "dng/particles.h"
+#include "standard_output.h"
 #include "swarm.h"
 
 #include <cstdint>
@@ -235,5 +236,5 @@ int main(int argc, char** argv) {
   std::printf("%016llx %.1f ns per particle-step (%s)\n", static_cast<unsigned long long>(hash.value),
               1e9 * seconds / (double(options.steps) * double(options.particles)),
               instructionSetName(activeInstructionSet()));
-  return 0;
+  return dng::tools::finishStandardOutput("swarm_hash", 0);
 }

@@ -32,5 +32,10 @@ int main(int argc, char** argv) {
                   double(s.normal.x), double(s.normal.y), double(s.normal.z));
     }
   }
+  // On a full disk what printf wrote is lost: say so rather than exit 0 with the answers missing.
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::fprintf(stderr, "dng_query: cannot write to standard output\n");
+    return 2;
+  }
   return 0;
 }

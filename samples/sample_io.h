@@ -45,7 +45,9 @@ inline void require(Status status, const Diagnostic& diag) {
 /// (a full disk). Flushes standard output to know.
 inline int exitCode(int verdict, bool files_written) {
   const bool printed = std::fflush(stdout) == 0 && !std::ferror(stdout);
-  if (!printed) std::fprintf(stderr, "cannot write to standard output\n");
+  static bool said = false; // the error stays set: a figure of several variants says it once
+  if (!printed && !said) std::fprintf(stderr, "cannot write to standard output\n");
+  said = said || !printed;
   return verdict != 0 ? verdict : files_written && printed ? 0 : 2;
 }
 

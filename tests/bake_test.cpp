@@ -957,6 +957,11 @@ TEST_F(BakeTest, LostJsonReportIsAnIoError) {
   File file;
   ASSERT_EQ(File::open(path("box.dng").c_str(), &file), Status::kOk);
   EXPECT_EQ(file.view().verifyHashes(), Status::kOk);
+  for (const char* option : {"--help", "--version"}) { // they print there too
+    const ProgramRun lost =
+        testing::runProgram(testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + option + " 2>&1 >/dev/full");
+    EXPECT_EQ(lost.exit_code, 2) << option << ": " << lost.output;
+  }
 }
 
 } // namespace

@@ -194,7 +194,8 @@ TEST_F(DumpTest, SliceIsAPictureWithTheContourWhereTheSurfaceIs) {
 // that writes to standard output, not a success with a cut or empty report.
 TEST_F(DumpTest, LostStandardOutputIsAnIoError) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
-  for (const char* args : {"box.dng", "box.dng --json", "box.dng --stats", "box.dng --check", "box.dng --query"}) {
+  for (const char* args :
+       {"box.dng", "box.dng --json", "box.dng --stats", "box.dng --check", "box.dng --query", "--help", "--version"}) {
     SCOPED_TRACE(args);
     const testing::ProgramRun run =
         testing::runProgram("cd '" + dir_ + "' && echo 0 0 0 | " + testing::shellQuoted(DNG_DNGDUMP_PATH) + " " + args +

@@ -196,7 +196,8 @@ int main(int argc, char** argv) {
   CLI::App app{"dngbake: bake a mesh into a distance/normal grid (.dng)", "dngbake"};
   CommandLine cl;
   addOptions(app, cl);
-  if (const int code = dng::tools::parseOrExitCode(app, argc, argv); code >= 0) return code;
+  if (const int code = dng::tools::parseOrExitCode(app, argc, argv); code >= 0)
+    return finishStandardOutput("dngbake", code); // --help and --version print there
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   Progress progress{wantProgress(cl)};

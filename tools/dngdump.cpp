@@ -184,7 +184,8 @@ int main(int argc, char** argv) {
   CLI::App app{"dngdump: inspect, validate, query and draw .dng files", "dngdump"};
   CommandLine cl;
   addOptions(app, cl);
-  if (const int code = dng::tools::parseOrExitCode(app, argc, argv); code >= 0) return code;
+  if (const int code = dng::tools::parseOrExitCode(app, argc, argv); code >= 0)
+    return finishStandardOutput("dngdump", code); // --help and --version print there
   File file;
   Diagnostic diag;
   if (File::open(cl.file.c_str(), &file, &diag) != Status::kOk) {

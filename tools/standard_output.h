@@ -17,9 +17,9 @@ namespace tools {
 inline int finishStandardOutput(const char* tool, int code) {
   errno = 0;
   if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return code;
-  const int error = errno;
-  std::fprintf(stderr, "%s: error: cannot write to standard output%s%s\n", tool, error != 0 ? ": " : "",
-               error != 0 ? std::strerror(error) : "");
+  const int error = errno; // 0 when the write that failed was an earlier one, long since returned
+  std::fprintf(stderr, "%s: error: cannot write to standard output: %s\n", tool,
+               error != 0 ? std::strerror(error) : "an earlier write failed");
   return code == kExitOk ? kExitIo : code;
 }
 

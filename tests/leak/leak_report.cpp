@@ -232,6 +232,7 @@ int main(int argc, char** argv) {
   for (const Totals& t : totals)
     out << t.row();
   out << md.str();
+  out.close(); // the last buffer is written here, and may fail here
   if (!out) {
     std::fprintf(stderr, "leak_report: cannot write %s\n", output.c_str());
     return 1;

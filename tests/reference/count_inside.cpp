@@ -7,6 +7,7 @@
 // but finite "x y z" triples (a point that is not a number could be counted as neither inside nor out).
 #include "mesh_reference.h"
 #include "stages.h"
+#include "standard_output.h"
 
 #include <cstdio>
 #include <fstream>
@@ -49,5 +50,5 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("{\"points\":%zu,\"inside\":%zu,\"deepest\":%.6g}\n", points, inside, double(deepest));
-  return 0;
+  return dng::tools::finishStandardOutput("dng_count_inside", 0); // a lost count must not read as none
 }
