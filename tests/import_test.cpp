@@ -389,6 +389,7 @@ TEST_F(ImportTest, BadScenesGetTheirExitCodeAMessageAndNoOutput) {
   GltfScene cycle = twoCubes();
   cycle.nodes[1].children = {0};
   saveGltf(testing::buildGltf(cycle), path("cycle.gltf"), GltfStorage::kEmbedded);
+  testing::writeOff(placedCubes({{kOther}}).vertices, placedCubes({{kOther}}).triangles, path("cube.off"));
 
   const std::pair<std::string, BadCase> cases[] = {
       {"truncated.glb", {"truncated", 3, "truncated.glb"}},
@@ -403,6 +404,7 @@ TEST_F(ImportTest, BadScenesGetTheirExitCodeAMessageAndNoOutput) {
       {"cycle.gltf", {"cycle", 3, "not a tree"}},
       {"good.glb --node nowhere", {"node", 1, "--node 'nowhere'"}},
       {"good.glb --scene 7", {"scene", 1, "--scene 7"}},
+      {"cube.off --scene 0", {"scene of a mesh", 1, "--scene 0: no input is a scene file"}},
       {"good.glb --units parsecs", {"units", 1, "parsecs"}},
   };
   for (const auto& [args, c] : cases) {

@@ -93,8 +93,8 @@ void addOptions(CLI::App& app, CommandLine& cl) {
   app.add_option("--brick-size", cl.bake.brick.brick_size, "4, 8 (default) or 16")->check(CLI::IsMember({4u, 8u, 16u}));
   app.add_option("--tolerance", cl.bake.brick.tolerance_distance, "plane/far tile tolerance in voxels (default 0.02)");
   app.add_flag("!--no-lift", cl.bake.lift,
-               "leave out the LIFT section (a file about a third smaller); accurate queries then read the lowered "
-               "values");
+               "leave out the LIFT section (a file about a quarter smaller, a third in exact mode); accurate "
+               "queries then read the lowered values");
   app.add_flag("!--no-second-planes", cl.bake.second_planes,
                "leave out the PLN2 section (bricked): particles beside edges are then proven outside less often");
   app.add_option("--export-vdb", cl.export_vdb, "also write distance and normal grids as OpenVDB");

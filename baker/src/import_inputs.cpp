@@ -133,6 +133,13 @@ BakeStatus importInputs(const std::vector<std::string>& paths, const ImportOptio
   out_reports->assign(paths.size(), ImportReport());
   if (!(units.scale > 0.0) || !std::isfinite(float(units.scale)))
     return BakeStatus::failure(BakeError::kBadOption, "--scale must be a finite number > 0");
+  // A scene index means nothing to mesh files, which hold one mesh: asked of them alone it is a mistake
+  // (as a --node no input has), not something to ignore.
+  const auto is_mesh_file = [](const std::string& path) { return importerFor(path) == &importOpenMesh; };
+  if (options.scene >= 0 && !paths.empty() && std::all_of(paths.begin(), paths.end(), is_mesh_file))
+    return BakeStatus::failure(BakeError::kBadOption, "--scene " + std::to_string(options.scene) +
+                                                          ": no input is a scene file (glTF or a format assimp "
+                                                          "reads); mesh files hold one mesh");
   for (std::size_t i = 0; i < paths.size(); ++i) {
     ImportReport& report = (*out_reports)[i];
     const std::size_t first_vertex = out_soup->vertices.size();

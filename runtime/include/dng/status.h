@@ -40,9 +40,9 @@ enum class Status : std::int32_t {
 const char* statusString(Status status);
 
 /// Caller-owned place for the message of a failed call: the status, the docs/FORMAT.md rule that
-/// failed as a stable machine-readable ID ("V8"; empty when the failure breaks no file rule, such as a
-/// bad argument), and a NUL-terminated sentence with the numbers involved. Fixed size so filling it
-/// never allocates.
+/// failed as a stable machine-readable ID ("V8"; V2 for a null or misaligned buffer; empty when the failure breaks no
+/// file rule, such as a bad argument), and a NUL-terminated sentence with the numbers involved. Fixed size so filling
+/// it never allocates.
 struct Diagnostic {
   Status status = Status::kOk;
   char rule[8] = {};

@@ -112,15 +112,16 @@ struct GridSection {
   std::uint32_t flags;         // 60  kGridFlag* bits (1.1; written 0 by 1.0 writers), others reserved
 };
 
-/// GridSection::flags bit 0 (since 1.1): every in-band voxel's plane, d + n . (p - c), is at most the
-/// true signed distance everywhere in the voxel's cell, as dngbake makes them (docs/FORMAT.md §5).
+/// GridSection::flags bit 0 (since 1.1): wherever an in-band voxel's plane, d + n . (p - c), capped at
+/// the guaranteed reach, reads >= 0 in the voxel's cell, it is at most the true signed distance there
+/// plus a small epsilon, as dngbake makes them (docs/FORMAT.md §5.1 states it exactly).
 /// Readers that do not know a bit ignore it.
 inline constexpr std::uint32_t kGridFlagConservativePlanes = 1u;
 
 /// One voxel of the dense encoding: 16 bytes.
 struct DenseVoxel {
   float distance;  // 0   signed distance at the voxel centre, negative inside
-  float normal[3]; // 4   unit normal (any finite vector is accepted and used as stored)
+  float normal[3]; // 4   unit normal (V14: finite, of length at most 1 + 1e-4; used as stored)
 };
 
 /// The start of a PLN2 section: 8 bytes.
