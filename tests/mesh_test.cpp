@@ -407,6 +407,17 @@ TEST_F(MeshTest, UnusableMeshesAreRefusedWithInvalidInput) {
   const MeshReport r = checkMesh(flat);
   EXPECT_EQ(r.degenerate_triangles, 3u);
   EXPECT_EQ(requireBakeable(r).code, BakeError::kInvalidInput);
+  // A sliver has some area, but thinner than float's precision over its length (here 10^-12 as thick as
+  // it is long) it has no usable normal: degenerate, and the message says why. 10^-6 is a triangle.
+  TriangleSoup sliver;
+  sliver.vertices = {{0, 0, 0}, {1, 0, 0}, {1000, 0, 1e-6f}};
+  sliver.triangles = {{0, 1, 2}};
+  const BakeStatus sliver_status = requireBakeable(checkMesh(sliver));
+  EXPECT_EQ(sliver_status.code, BakeError::kInvalidInput);
+  EXPECT_NE(sliver_status.message.find("thinner than 1e-7 of their longest edge"), std::string::npos)
+      << sliver_status.message;
+  sliver.vertices[2].z = 1.0f;
+  EXPECT_EQ(checkMesh(sliver).degenerate_triangles, 0u);
 
   const TriangleSoup empty = load(write("empty.obj", ""));
   const BakeStatus empty_status = requireBakeable(checkMesh(empty));

@@ -12,7 +12,8 @@ namespace baker {
 
 namespace {
 
-// Zero area, relative to the triangle's own size so that tiny but valid triangles still count.
+// Zero area, relative to the triangle's own size so that tiny but valid triangles still count: a
+// sliver thinner than float's precision over its longest edge has no normal to speak of.
 bool degenerate(const TriangleSoup& soup, const std::array<std::uint32_t, 3>& t) {
   if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
   const Vec3f a = soup.vertices[t[0]], b = soup.vertices[t[1]], c = soup.vertices[t[2]];
@@ -113,7 +114,9 @@ BakeStatus requireBakeable(const MeshReport& r) {
                                std::to_string(r.non_finite_vertices) + " vertices have NaN or infinite coordinates");
   if (r.degenerate_triangles == r.triangles)
     return BakeStatus::failure(BakeError::kInvalidInput,
-                               "all " + std::to_string(r.triangles) + " triangles are degenerate (zero area)");
+                               "all " + std::to_string(r.triangles) +
+                                   " triangles are degenerate (a repeated vertex, or no area at float precision: "
+                                   "thinner than 1e-7 of their longest edge)");
   return BakeStatus::success();
 }
 
