@@ -270,6 +270,24 @@ TEST(GridLimits, OnlyDenseFilesAreCappedInVoxels) {
   EXPECT_NE(dense.message.find("dense"), std::string::npos) << dense.message;
 }
 
+// A grid far from the origin for its voxel size has few float positions per voxel: the bake says so
+// (a unit box at 10^5 baked at resolution 128 has floats 0.9 voxel apart); near the origin it does not.
+TEST(GridLimits, AGridFarFromTheOriginForItsVoxelIsWarnedAbout) {
+  MeshReport mesh;
+  BakeOptions options;
+  format::GridGeometry grid;
+  for (const float at : {0.0f, 1e3f, 1e5f}) {
+    mesh.bounds_min = {at, at, at};
+    mesh.bounds_max = {at + 1, at + 1, at + 1};
+    std::vector<std::string> warnings;
+    ASSERT_TRUE(placeGrid(mesh, options, &grid, &warnings).ok());
+    const bool warned = std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+      return w.find("far from the origin for its voxel size") != std::string::npos;
+    });
+    EXPECT_EQ(warned, at == 1e5f) << "at " << at;
+  }
+}
+
 } // namespace
 } // namespace baker
 } // namespace dng

@@ -12,6 +12,9 @@ namespace {
 
 constexpr float kHalfDiagonal = format::kHalfCubeDiagonal; // View::guaranteedReach's guard, in voxels
 constexpr float kSpeedMargin = 0.5f;                       // extra voxels on top of the travel per step
+// Float positions more than this many voxels apart make particles move and be judged in coarse steps:
+// a sixth of the runtime's 0.06-voxel walk margin.
+constexpr float kCoarsePositionVoxels = 0.01f;
 // The working store is sparse (memory follows the surface), but a dense file holds 16 bytes per voxel
 // and is built in memory: refuse dense grids over 2^27 voxels (512^3, a 2 GB file) up front.
 constexpr double kMaxDenseVoxels = double(1u << 27);
@@ -20,6 +23,17 @@ constexpr double kMaxDenseVoxels = double(1u << 27);
 float bandVoxels(const BakeOptions& o, float voxel) {
   if (o.max_speed > 0.0f && o.dt > 0.0f) return o.max_speed * o.dt / voxel + kHalfDiagonal + kSpeedMargin;
   return o.band_voxels;
+}
+
+// The spacing of floats at the grid's farthest corner from the origin, in voxels: a grid far from the
+// origin for its voxel size (a building baked in a city's coordinates) has fewer positions per voxel.
+float positionSpacingVoxels(const format::GridGeometry& g) {
+  float farthest = 0.0f;
+  for (int a = 0; a < 3; ++a) {
+    const float lo = a == 0 ? g.origin.x : a == 1 ? g.origin.y : g.origin.z;
+    farthest = std::max({farthest, std::fabs(lo), std::fabs(lo + float(g.dims[a]) * g.voxel_size)});
+  }
+  return (std::nextafter(farthest, INFINITY) - farthest) / g.voxel_size;
 }
 
 } // namespace
@@ -93,6 +107,13 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
                            "thinnest side (" + std::to_string(std::min({g.dims[0], g.dims[1], g.dims[2]})) +
                            " voxels): most of the file is band (a flat mesh, or a band for particles so fast "
                            "they would be better served by a coarser grid or swept steps)");
+  if (const float spacing = positionSpacingVoxels(g); spacing > kCoarsePositionVoxels)
+    io_warnings->push_back("the grid lies far from the origin for its voxel size: floats there are " +
+                           shortNumber(spacing) +
+                           " voxels apart, so particles move and are judged in steps that "
+                           "coarse; move the mesh near the origin before baking, place the body with its transform, "
+                           "and keep the game's particles near the origin too (world positions that large have the "
+                           "same limit)");
   *out = g;
   return BakeStatus::success();
 }
