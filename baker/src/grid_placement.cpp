@@ -12,8 +12,8 @@ namespace {
 
 constexpr float kHalfDiagonal = format::kHalfCubeDiagonal; // View::guaranteedReach's guard, in voxels
 constexpr float kSpeedMargin = 0.5f;                       // extra voxels on top of the travel per step
-// Float positions more than this many voxels apart make particles move and be judged in coarse steps:
-// a sixth of the runtime's 0.06-voxel walk margin.
+// Float positions more than this many voxels apart make particles move in visibly coarse steps (a
+// sixth of the runtime's 0.06-voxel walk margin; the step keeps them out even so).
 constexpr float kCoarsePositionVoxels = 0.01f;
 // The working store is sparse (memory follows the surface), but a dense file holds 16 bytes per voxel
 // and is built in memory: refuse dense grids over 2^27 voxels (512^3, a 2 GB file) up front.

@@ -167,6 +167,7 @@ struct Stop {
   float t = 2.0f;
   WalkResult walk;
   Vec3f position; // world, on the blocking body as it stands at the end of the step
+  Vec3f local;    // the same point in the body's end-of-step frame, before rounding to world floats
 };
 
 // A neighbour bound at the start of the walk through one body, taken by the SIMD kernels.
@@ -199,7 +200,8 @@ Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& mo
     const WalkResult walk = walkSegment(*body.field(), a, delta, reuse ? &kept_sample : nullptr, margin, samples,
                                         handed.body == b ? handed.bound : nullptr);
     if (walk.stop == WalkStop::kClear || walk.t >= first.t) return;
-    first = {std::int32_t(b), walk.t, walk, end_pose.toWorld(a + delta * walk.t)};
+    const Vec3f local = a + delta * walk.t;
+    first = {std::int32_t(b), walk.t, walk, end_pose.toWorld(local), local};
   });
   return first;
 }
@@ -226,6 +228,15 @@ void settle(const Body* bodies, const NearBodies& near, const BodyMotions& motio
   BodyMotion scratch;
   const Pose& pose = motions.get(std::size_t(stop.body), &scratch).end;
   io->position = stop.position;
+  // Far from the origin world floats are coarse (a quarter of a voxel apart at 4 * 10^6 with unit
+  // voxels): the stop, found in the body's frame, may round to a point past the walk's margin. Where
+  // the rounding moved it by more than a quarter of the margin, keep it only if the move to it is clear
+  // on the floats the particle will hold; else the particle stays at its start. Nearer the origin the
+  // rounding is far smaller and this never runs.
+  const float margin = kMarginVoxels * body.field()->grid().voxel_size;
+  if (length(pose.toLocal(stop.position) - stop.local) > 0.25f * margin &&
+      firstStop(bodies, near, motions, start, stop.position, nullptr).body >= 0)
+    io->position = start;
   io->velocity = bounce(body, pose, stop, io->velocity);
   io_touch->record(std::size_t(stop.body), 0.0f);
   if (stop.walk.stop != WalkStop::kPlane) return;
@@ -336,7 +347,8 @@ void blockOne(const void* context, std::size_t n, Vec3f velocity, std::int32_t t
   const Vec3f a = body.toLocal(start);
   const Vec3f delta = end_pose.toLocal(end) - a;
   const WalkResult walk{WalkStop::kReverse, 0.0f, delta * (-1.0f / length(delta))};
-  const Stop stop{std::int32_t(b), walk.t, walk, end_pose.toWorld(a + delta * walk.t)};
+  const Vec3f local = a + delta * walk.t;
+  const Stop stop{std::int32_t(b), walk.t, walk, end_pose.toWorld(local), local};
   settle(step.bodies, *step.near, *step.motions, start, end, stop, &state, &touch);
   storeParticle(step, n, state, touch);
 }
