@@ -76,6 +76,20 @@ std::size_t stepAndCountInside(Particles& particles, const AnalyticField& shape,
   return std::size_t(std::count(was_inside.begin(), was_inside.end(), true));
 }
 
+// How many particles move away from the shape's surface: the test that they reached it and bounced.
+std::size_t movingAway(const Particles& particles, const AnalyticField& shape) {
+  std::size_t leaving = 0;
+  for (std::size_t n = 0; n < particles.size(); ++n)
+    leaving += dot(particles.velocity(n), shape(particles.position(n)).normal) > 0.0f ? 1 : 0;
+  return leaving;
+}
+
+// Moves every particle by `offset`, in floats.
+void shift(Particles* particles, Vec3f offset) {
+  for (std::size_t n = 0; n < particles->size(); ++n)
+    particles->px[n] += offset.x, particles->py[n] += offset.y, particles->pz[n] += offset.z;
+}
+
 Material impactMaterial(bool swept) {
   Material m;
   m.restitution = 0.5f;
@@ -101,10 +115,7 @@ TEST_P(Leak, NoParticleEndsInsideAtDesignSpeed) {
   Particles particles = thrownAt(s, kReachVoxels / kDt, 100000, 21);
   EXPECT_EQ(stepAndCountInside(particles, s, body, 12), 0u);
   // They really reached the body and bounced: most are now moving away from it.
-  std::size_t leaving = 0;
-  for (std::size_t n = 0; n < particles.size(); ++n)
-    leaving += dot(particles.velocity(n), s(particles.position(n)).normal) > 0.0f ? 1 : 0;
-  EXPECT_GT(leaving, particles.size() * 9 / 10);
+  EXPECT_GT(movingAway(particles, s), particles.size() * 9 / 10);
 }
 
 // Ten times the design speed: every step is walked through the field, so nothing tunnels in, swept or
@@ -117,10 +128,7 @@ TEST_P(Leak, NothingTunnelsAtTenTimesDesignSpeed) {
   Particles plain = swept;
   EXPECT_EQ(stepAndCountInside(swept, s, makeBody(field.view, impactMaterial(true)), 6), 0u);
   EXPECT_EQ(stepAndCountInside(plain, s, makeBody(field.view, impactMaterial(false)), 6), 0u);
-  std::size_t leaving = 0;
-  for (std::size_t n = 0; n < swept.size(); ++n)
-    leaving += dot(swept.velocity(n), s(swept.position(n)).normal) > 0.0f ? 1 : 0;
-  EXPECT_GT(leaving, swept.size() * 9 / 10);
+  EXPECT_GT(movingAway(swept, s), swept.size() * 9 / 10);
 }
 
 // A body far from the origin, where floats are a sixteenth (10^6), a quarter (4 * 10^6) or a whole
@@ -137,25 +145,21 @@ TEST_P(Leak, NoParticleGetsInsideABodyFarFromTheOrigin) {
     const float identity[4] = {1, 0, 0, 0};
     ASSERT_EQ(body.setTransform({at, -at, at}, identity, 1.0f), Status::kOk);
     Particles particles = thrownAt(s, kReachVoxels / kDt, 20000, 23);
-    for (std::size_t n = 0; n < particles.size(); ++n)
-      particles.px[n] += at, particles.py[n] -= at, particles.pz[n] += at;
+    shift(&particles, {at, -at, at});
     const AnalyticField placed = [&](Vec3f p) { return s(p - Vec3f{at, -at, at}); };
     std::size_t started_inside = 0; // a spawn point rounded to a float inside the shape
     for (std::size_t n = 0; n < particles.size(); ++n)
       started_inside += placed(particles.position(n)).distance < 0.0f ? 1 : 0;
     ASSERT_EQ(started_inside, 0u);
     EXPECT_EQ(stepAndCountInside(particles, placed, body, 12), 0u);
-    std::size_t leaving = 0; // they reached the body and bounced, as near the origin
-    for (std::size_t n = 0; n < particles.size(); ++n)
-      leaving += dot(particles.velocity(n), placed(particles.position(n)).normal) > 0.0f ? 1 : 0;
-    EXPECT_GT(leaving, particles.size() * 9 / 10);
+    EXPECT_GT(movingAway(particles, placed), particles.size() * 9 / 10); // they bounced, as near the origin
   }
 }
 
 // The same with the body moving a voxel per step, placed anew each step as a game places it, and judged
-// at the pose it has at each step's end: none inside at 10^6 and 4 * 10^6 (4 and 12 of 20,000 at 4 * 10^6
-// before the step checked rounded stops). (At 10^7 the body's own pose
-// is known only to the nearest float, a voxel apart: docs/RUNTIME.md, "Limits".)
+// at the pose it has at each step's end: none inside at 10^6 and 4 * 10^6 (4 and 12 of 20,000 at
+// 4 * 10^6 before the step checked rounded stops). At 10^7 the body's own pose is known only to the
+// nearest float, a voxel apart (docs/RUNTIME.md, "Limits").
 TEST_P(Leak, NoParticleGetsInsideAMovingBodyFarFromTheOrigin) {
   const AnalyticField s = shape();
   Field field(s);
@@ -164,8 +168,7 @@ TEST_P(Leak, NoParticleGetsInsideAMovingBodyFarFromTheOrigin) {
     SCOPED_TRACE(at);
     Body body = makeBody(field.view, impactMaterial(false));
     Particles particles = thrownAt(s, kReachVoxels / kDt, 20000, 24);
-    for (std::size_t n = 0; n < particles.size(); ++n)
-      particles.px[n] += at, particles.py[n] -= at, particles.pz[n] += at;
+    shift(&particles, {at, -at, at});
     const float identity[4] = {1, 0, 0, 0};
     std::vector<bool> was_inside(particles.size(), false);
     for (int step = 0; step < 12; ++step) {

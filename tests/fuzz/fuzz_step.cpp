@@ -13,6 +13,7 @@
 #include "dng/instruction_set.h"
 #include "dng/particles.h"
 #include "dng/view.h"
+#include "swarm.h"
 
 #include <cmath>
 #include <cstdint>
@@ -26,28 +27,16 @@ namespace {
 constexpr int kParticles = 96;
 constexpr int kSteps = 3;
 
-struct Swarm {
-  std::vector<float> px, py, pz, vx, vy, vz;
-  std::vector<std::uint8_t> contact;
-  std::vector<std::int32_t> body;
+using Swarm = dng::testing::Swarm; // tests/support: structure-of-arrays particles and their span
 
-  dng::ParticleSpan span() {
-    dng::ParticleSpan s;
-    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
-    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
-    s.count = px.size();
-    s.out_contact = contact.data(), s.out_body = body.data();
-    return s;
-  }
-  // Whether the lattice's particles (finite ones, the first kParticles) stayed finite.
-  bool finite() const {
-    for (std::size_t n = 0; n < std::size_t(kParticles); ++n)
-      if (!std::isfinite(px[n]) || !std::isfinite(py[n]) || !std::isfinite(pz[n]) || !std::isfinite(vx[n]) ||
-          !std::isfinite(vy[n]) || !std::isfinite(vz[n]))
-        return false;
-    return true;
-  }
-};
+// Whether the lattice's particles (finite ones, the first kParticles) stayed finite.
+bool latticeFinite(const Swarm& s) {
+  for (std::size_t n = 0; n < std::size_t(kParticles); ++n)
+    if (!std::isfinite(s.px[n]) || !std::isfinite(s.py[n]) || !std::isfinite(s.pz[n]) || !std::isfinite(s.vx[n]) ||
+        !std::isfinite(s.vy[n]) || !std::isfinite(s.vz[n]))
+      return false;
+  return true;
+}
 
 bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
   return std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
@@ -65,13 +54,13 @@ Swarm lattice(const dng::GridInfo& g, float dt) {
   for (int n = 0; n < kParticles; ++n) {
     const float t[3] = {float(n % 4) / 3.0f, float((n / 4) % 4) / 3.0f, float((n / 16) % 6) / 5.0f};
     const float span[3] = {float(g.dims[0]), float(g.dims[1]), float(g.dims[2])};
-    s.px.push_back(g.origin.x + (t[0] * 1.1f - 0.05f) * span[0] * g.voxel_size);
-    s.py.push_back(g.origin.y + (t[1] * 1.1f - 0.05f) * span[1] * g.voxel_size);
-    s.pz.push_back(g.origin.z + (t[2] * 1.1f - 0.05f) * span[2] * g.voxel_size);
+    const dng::Vec3f p{g.origin.x + (t[0] * 1.1f - 0.05f) * span[0] * g.voxel_size,
+                       g.origin.y + (t[1] * 1.1f - 0.05f) * span[1] * g.voxel_size,
+                       g.origin.z + (t[2] * 1.1f - 0.05f) * span[2] * g.voxel_size};
     const float speed = g.voxel_size / dt * (n % 3 == 0 ? 0.05f : n % 3 == 1 ? 0.7f : 4.0f);
     const float a = 2.399963f * float(n), z = 1.0f - 2.0f * (float(n) + 0.5f) / float(kParticles);
     const float r = std::sqrt(1.0f - z * z);
-    s.vx.push_back(speed * r * std::cos(a)), s.vy.push_back(speed * r * std::sin(a)), s.vz.push_back(speed * z);
+    s.add(p, {speed * r * std::cos(a), speed * r * std::sin(a), speed * z});
   }
   // And particles a buggy emitter would hand over: NaN and infinite numbers, a move that overflows.
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
@@ -82,12 +71,8 @@ Swarm lattice(const dng::GridInfo& g, float dt) {
       {nan, centre[1], centre[2], 0, 0, 0},         {centre[0], centre[1], centre[2], nan, 0, 0},
       {centre[0], centre[1], centre[2], inf, 0, 0}, {centre[0], centre[1], centre[2], 3e38f, 0, 0},
       {3e38f, centre[1], centre[2], -3e38f, 0, 0},  {-inf, centre[1], centre[2], inf, 0, 0}};
-  for (const auto& h : hostile) {
-    s.px.push_back(h[0]), s.py.push_back(h[1]), s.pz.push_back(h[2]);
-    s.vx.push_back(h[3]), s.vy.push_back(h[4]), s.vz.push_back(h[5]);
-  }
-  s.contact.assign(s.px.size(), 0);
-  s.body.assign(s.px.size(), -2);
+  for (const auto& h : hostile)
+    s.add({h[0], h[1], h[2]}, {h[3], h[4], h[5]});
   return s;
 }
 
@@ -110,7 +95,7 @@ void compare(const std::vector<dng::Body>& bodies, float dt) {
   Swarm scalar = start;
   if (dng::setInstructionSet(dng::InstructionSet::kScalar) != dng::Status::kOk) std::abort();
   const bool scalar_ok = run(bodies, nullptr, dt, &scalar);
-  if (scalar_ok && !scalar.finite()) std::abort();
+  if (scalar_ok && !latticeFinite(scalar)) std::abort();
   dng::BodyIndex index;
   if (scalar_ok && bodies.size() > 1 && index.rebuild(bodies.data(), bodies.size(), dt) != dng::Status::kOk)
     std::abort(); // the step took these bodies, so the index must
