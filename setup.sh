@@ -251,22 +251,25 @@ cmd_format_check() {
 }
 
 # The sample meshes come from Debian's libcgal-demo (docs/DESIGN.md §9) and are never committed.
-fetch_data() {
+# unpack_meshes FILE...: these meshes of Debian's libcgal-demo into data/data/meshes, where missing.
+unpack_meshes() {
   install_packages libcgal-demo
+  local meshes="$ROOT/data/data/meshes" wanted=() name
+  for name in "$@"; do [ -f "$meshes/$name" ] || wanted+=("data/meshes/$name"); done
+  [ ${#wanted[@]} -eq 0 ] && return 0
   mkdir -p "$ROOT/data"
-  local meshes="$ROOT/data/data/meshes"
-  if [ ! -f "$meshes/bunny00.off" ] || [ ! -f "$meshes/fandisk.off" ] || [ ! -f "$meshes/blade.off" ]; then
-    # Unpacked beside and moved into place: an interrupted unpack leaves no half file that a later run
-    # would take for done.
-    local unpack
-    unpack=$(mktemp -d "$ROOT/data/.unpack.XXXXXX")
-    tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$unpack" \
-      data/meshes/bunny00.off data/meshes/fandisk.off data/meshes/blade.off
-    mkdir -p "$meshes"
-    mv "$unpack"/data/meshes/*.off "$meshes/"
-    rm -rf "$unpack"
-  fi
+  # Unpacked beside and moved into place: an interrupted unpack leaves no half file that a later run
+  # would take for done.
+  local unpack
+  unpack=$(mktemp -d "$ROOT/data/.unpack.XXXXXX")
+  tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$unpack" "${wanted[@]}"
+  mkdir -p "$meshes"
+  mv "$unpack"/data/meshes/*.off "$meshes/"
+  rm -rf "$unpack"
 }
+
+# The meshes the tests, the demo and the leak table use.
+fetch_data() { unpack_meshes bunny00.off fandisk.off blade.off cheese.off; }
 
 build_fuzzers() {
   install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev libopenmesh-dev libtinygltf-dev libassimp-dev
@@ -355,6 +358,13 @@ cmd_leaks() {
   cmake --build "$build" --parallel "$JOBS" --target leak_report
   "$build/tests/leak/leak_report" "$ROOT/data/data/meshes" "$ROOT/docs/LEAKS.md"
   log "wrote docs/LEAKS.md"
+  # The same cases on more of libcgal-demo's meshes: animals, people, machine parts, a knot.
+  local more=(ChineseDragon-10kv anchor_dense armadillo camel couplingdown cow elephant knot1 man mannequin-devil
+              pinion rotor turbine) args=()
+  unpack_meshes "${more[@]/%/.off}"
+  for name in "${more[@]}"; do args+=(--mesh "$ROOT/data/data/meshes/$name.off"); done
+  "$build/tests/leak/leak_report" "${args[@]}" "$ROOT/docs/LEAKS_MORE.md"
+  log "wrote docs/LEAKS_MORE.md"
 }
 
 # The main job end to end: bake the Stanford bunny, check it, run particles around it, draw.

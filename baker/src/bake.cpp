@@ -182,7 +182,7 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   // closed, consistently oriented meshes only, and only the bricked encoding stores them.
   const bool second_planes =
       options.second_planes && options.encoding == format::Encoding::kBricked && report->mesh.wellFormedSolid();
-  status = makePlanesConservative(options.lift, second_planes ? &soup : nullptr, progress, user, &band);
+  status = makePlanesConservative(options.lift, soup, second_planes, progress, user, &band);
   if (!status.ok()) return status;
   report->grid.flags = band.grid().flags;
   timer.done("conservative");

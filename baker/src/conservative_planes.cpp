@@ -14,7 +14,14 @@
 //     normal's plane would need a lowering of up to |n - grad D|_1 h / 2 here, and beside sharp edges
 //     that left particles no provable room (measured: docs/CHANGELOG.md, format 1.3).
 // The plane is lowered by the bound plus a small allowance, never raised.
+// The 27 centres miss a surface that bends two ways within about a voxel (a convex edge beside a concave
+// one, as between the holes of CGAL's cheese.off, where planes read up to 0.27 voxel above the distance
+// and particles cut its edges; bunny and fandisk had 0.08 at worst). So each plane is then checked
+// against the triangles themselves at its cell's corners, edge and face centres, and lowered by the
+// largest excess found there plus the crease allowance. The unsigned distance is what the walk's proofs
+// rely on (walk.h): a point reading q > 0 has no surface within q.
 #include "conservative_planes.h"
+#include "dng/format/limits.h"
 #include "parallel_blocks.h"
 
 #include <algorithm>
@@ -102,36 +109,116 @@ float lowering(float excess, float h) {
   return excess + (excess > 1e-3f * h ? kCreaseAllowanceVoxels : kAllowanceVoxels) * h;
 }
 
-// How far to lower each voxel of one block (VoxelBlock order). A plane that cannot reach zero anywhere
-// in its cell (d + |n|_1 h/2 < 0) promises nothing and is left alone, so deep inside stays exact.
-void lowerBlock(const Neighbourhood& hood, const format::GridGeometry& g, float* out) {
+// Whether voxel (x, y, z) of the block carries a plane worth lowering: in the band, inside the grid, and
+// able to reach zero somewhere in its cell (d + |n|_1 h/2 >= 0). Others promise nothing and are left
+// alone, so deep inside stays exact.
+bool lowersPlane(const Neighbourhood& hood, const format::GridGeometry& g, const VoxelBlock& block, int x, int y,
+                 int z) {
+  const int at = Neighbourhood::at(x, y, z);
+  const float d = hood.distance[at];
+  const Vec3f n = hood.normal[at];
+  if (!(std::fabs(d) < g.band) || d + (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z)) * 0.5f * g.voxel_size < 0.0f)
+    return false;
+  return std::int64_t(block.origin[0]) + x < g.dims[0] && std::int64_t(block.origin[1]) + y < g.dims[1] &&
+         std::int64_t(block.origin[2]) + z < g.dims[2];
+}
+
+// The points the check against the triangles reads: the cells' corners, edge and face centres (their
+// centres never held the largest excess in measurements), on a lattice of half voxels shared between
+// neighbouring cells. Point (a, b, c), each 0..2 kDim, lies at the block's first voxel centre plus
+// (a - 1, b - 1, c - 1) half voxels; cell (x, y, z) holds the points 2x..2x+2 on each axis.
+constexpr int kLattice = 2 * VoxelBlock::kDim + 1;
+int latticeAt(int a, int b, int c) { return (c * kLattice + b) * kLattice + a; }
+
+// A cell's point `o` (0..26, x fastest; 13 is the centre) as lattice steps from the cell's first point.
+struct CellPoint {
+  int a, b, c;
+  Vec3f offset; // from the cell's centre
+};
+CellPoint cellPoint(int o, float h) {
+  const int a = o % 3, b = (o / 3) % 3, c = o / 9;
+  return {a, b, c, Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * h)};
+}
+
+// Lowers further each plane `lowered` left above the unsigned distance to the triangles at one of its
+// cell's points (the reading capped at the guaranteed reach, View::guaranteedReach: the runtime takes no
+// more from a plane): by that excess plus the crease allowance. Each lattice point is asked of Embree
+// once, within the largest radius any of its cells needs (a surface point closer than a reading, less
+// the allowance, matters; a small radius is cheap).
+void lowerToTriangles(const Neighbourhood& hood, const ClosestPointIndex& index, const format::GridGeometry& g,
+                      const VoxelBlock& block, float* io_lowered) {
+  const float h = g.voxel_size, slack = kAllowanceVoxels * h;
+  const float reach = g.band - format::kHalfCubeDiagonal * h;
+  const auto reading = [&](int x, int y, int z, const CellPoint& p) {
+    const int at = Neighbourhood::at(x, y, z);
+    const float d = hood.distance[at] - io_lowered[VoxelBlock::offset(x, y, z)];
+    return std::min(d + dot(hood.normal[at], p.offset), reach);
+  };
+  const auto forEachCellPoint = [&](auto&& visit) {
+    for (int x = 0; x < VoxelBlock::kDim; ++x)
+      for (int y = 0; y < VoxelBlock::kDim; ++y)
+        for (int z = 0; z < VoxelBlock::kDim; ++z) {
+          if (!lowersPlane(hood, g, block, x, y, z)) continue;
+          for (int o = 0; o < 27; ++o) {
+            if (o == 13) continue;
+            const CellPoint p = cellPoint(o, h);
+            const float r = reading(x, y, z, p);
+            if (r > slack) visit(x, y, z, latticeAt(2 * x + p.a, 2 * y + p.b, 2 * z + p.c), r);
+          }
+        }
+  };
+  float radius[kLattice * kLattice * kLattice] = {};
+  forEachCellPoint([&](int, int, int, int at, float r) { radius[at] = std::max(radius[at], r - slack); });
+  float distance[kLattice * kLattice * kLattice];
+  const Vec3f first =
+      g.voxelCentre(std::uint32_t(block.origin[0]), std::uint32_t(block.origin[1]), std::uint32_t(block.origin[2]));
+  for (int c = 0; c < kLattice; ++c)
+    for (int b = 0; b < kLattice; ++b)
+      for (int a = 0; a < kLattice; ++a) {
+        const int at = latticeAt(a, b, c);
+        if (!(radius[at] > 0.0f)) continue;
+        const Vec3f p = first + Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * h);
+        const ClosestPointIndex::Hit hit = index.query(p, radius[at]);
+        distance[at] = hit.found ? hit.distance : std::numeric_limits<float>::infinity();
+      }
+  float missed[VoxelBlock::kVoxels] = {};
+  forEachCellPoint([&](int x, int y, int z, int at, float r) {
+    if (distance[at] < r - slack) {
+      float& m = missed[VoxelBlock::offset(x, y, z)];
+      m = std::max(m, r - distance[at]);
+    }
+  });
+  for (int v = 0; v < VoxelBlock::kVoxels; ++v)
+    if (missed[v] > 0.0f) io_lowered[v] += missed[v] + kCreaseAllowanceVoxels * h;
+}
+
+// How far to lower each voxel of one block (VoxelBlock order): the bound over its cell, then the check
+// against the triangles.
+void lowerBlock(const Neighbourhood& hood, const ClosestPointIndex& index, const format::GridGeometry& g,
+                const VoxelBlock& block, float* out) {
   const float h = g.voxel_size;
   for (int x = 0; x < VoxelBlock::kDim; ++x)
     for (int y = 0; y < VoxelBlock::kDim; ++y)
       for (int z = 0; z < VoxelBlock::kDim; ++z) {
+        if (!lowersPlane(hood, g, block, x, y, z)) continue;
         const int at = Neighbourhood::at(x, y, z);
-        const float d = hood.distance[at];
-        const Vec3f n = hood.normal[at];
-        if (!(std::fabs(d) < g.band) || d + (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z)) * 0.5f * h < 0.0f)
-          continue;
-        out[VoxelBlock::offset(x, y, z)] = lowering(planeExcess(hood, x, y, z, d, n, g.band, h), h);
+        out[VoxelBlock::offset(x, y, z)] =
+            lowering(planeExcess(hood, x, y, z, hood.distance[at], hood.normal[at], g.band, h), h);
       }
+  lowerToTriangles(hood, index, g, block, out);
 }
 
 } // namespace
 
-BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup* solid, ProgressFn progress,
+BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup& soup, bool second_planes, ProgressFn progress,
                                   void* progress_user, BandGrid* io) {
   const format::GridGeometry& g = io->grid();
   const std::vector<VoxelBlock> blocks = io->blocks();
-  const bool second_planes = solid != nullptr;
   ClosestPointIndex index;
-  if (second_planes) {
-    const BakeStatus built = index.build(*solid);
-    if (!built.ok()) return built;
-    io->startSecondPlanes();
-  }
-  const SecondPlaneMesh mesh{solid, &index};
+  const BakeStatus built = index.build(soup);
+  if (!built.ok()) return built;
+  if (second_planes) io->startSecondPlanes();
+  const SecondPlaneMesh mesh{&soup, &index};
   const std::vector<SecondPlaneBlock> seconds =
       second_planes ? io->secondPlaneBlocks() : std::vector<SecondPlaneBlock>();
   std::vector<float> lowered(blocks.size() * VoxelBlock::kVoxels, 0.0f);
@@ -139,7 +226,7 @@ BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup* solid,
       forEachBlockInParallel(blocks.size(), "conservative", progress, progress_user, [&](std::size_t b) {
         Neighbourhood hood; // readNeighbourhood fills all of it
         readNeighbourhood(*io, blocks[b], &hood);
-        lowerBlock(hood, g, &lowered[b * VoxelBlock::kVoxels]);
+        lowerBlock(hood, index, g, blocks[b], &lowered[b * VoxelBlock::kVoxels]);
         if (second_planes) secondBoundsOfBlock(hood, mesh, g, &lowered[b * VoxelBlock::kVoxels], seconds[b]);
       });
   if (!finished) return BakeStatus::cancelled();

@@ -158,11 +158,11 @@ BakeStatus applyNormalMode(const TriangleSoup& soup, const BakeOptions& options,
 /// marks the grid format::kGridFlagConservativePlanes. The band's normals must be the distance's own
 /// (every mode keeps them; the blurred ones are shading normals). Reports stage "conservative"; cancel
 /// as the others. With `keep_accurate` the band keeps the distances from before the lowering
-/// (BandGrid::keepAccurateDistances). With `solid` (a closed, consistently oriented mesh: the field's
-/// inside changes only across its surface; null for any other) it also gives the voxels beside edges a
-/// second plane where one adds provable clearance, checked against the triangles
-/// (BandGrid::startSecondPlanes).
-BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup* solid, ProgressFn progress,
+/// (BandGrid::keepAccurateDistances). Every plane is also checked against `soup`'s triangles. With
+/// `second_planes` (only for a closed, consistently oriented `soup`: the field's inside changes only
+/// across its surface) it also gives the voxels beside edges a second plane where one adds provable
+/// clearance, checked against the triangles (BandGrid::startSecondPlanes).
+BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup& soup, bool second_planes, ProgressFn progress,
                                   void* progress_user, BandGrid* io);
 
 /// A voxel the surface overlaps, with the average normal of the triangles overlapping it.
