@@ -3,7 +3,7 @@
 //   leak_report MESH_DIR OUTPUT.md [PARTICLES] [STEPS]
 //   leak_report --mesh FILE [--mesh FILE ...] OUTPUT.md [PARTICLES] [STEPS]
 // MESH_DIR holds bunny00.off, fandisk.off, blade.off and cheese.off. With --mesh, the same cases run on those mesh
-// files instead (any format the baker reads), each judged closed or open as checkMesh finds it, in the
+// files instead (OBJ, OFF, PLY or STL), each judged closed or open as checkMesh finds it, in the
 // normal-blur and exact modes, and in potential mode too when it is open. Exit code 0 when the table was
 // written, 1 on bad arguments or a mesh that would not load or bake; leaks do not change it (the table
 // is the verdict).
@@ -12,6 +12,7 @@
 #include "temp_dir.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -215,25 +216,42 @@ triangles, stopped a thousandth of a voxel short of the first hit and reflected)
 crossings, or the harness is wrong.
 )";
 
+// A whole number from 1 to 10^8, the whole of `text`.
+bool positiveCount(const std::string& text, long* out) {
+  char* end = nullptr;
+  const long value = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || value < 1 || value > 100000000) return false;
+  *out = value;
+  return true;
+}
+
+int usage() {
+  std::fprintf(stderr, "usage: leak_report MESH_DIR OUTPUT.md [PARTICLES] [STEPS]\n"
+                       "       leak_report --mesh FILE [--mesh FILE ...] OUTPUT.md [PARTICLES] [STEPS]\n");
+  return 1;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> meshes, positional;
   for (int a = 1; a < argc; ++a) {
-    if (std::string(argv[a]) == "--mesh" && a + 1 < argc)
+    if (std::string(argv[a]) != "--mesh")
+      positional.push_back(argv[a]);
+    else if (a + 1 < argc)
       meshes.push_back(argv[++a]);
     else
-      positional.push_back(argv[a]);
+      return usage();
   }
   const std::size_t first = meshes.empty() ? 1 : 0; // the output's place among the positional arguments
-  if (positional.size() < first + 1 || positional.size() > first + 3) {
-    std::fprintf(stderr, "usage: leak_report MESH_DIR OUTPUT.md [PARTICLES] [STEPS]\n"
-                         "       leak_report --mesh FILE [--mesh FILE ...] OUTPUT.md [PARTICLES] [STEPS]\n");
+  if (positional.size() < first + 1 || positional.size() > first + 3) return usage();
+  const std::string output = positional[first];
+  long particles = 20000, steps = 120;
+  if ((positional.size() > first + 1 && !positiveCount(positional[first + 1], &particles)) ||
+      (positional.size() > first + 2 && !positiveCount(positional[first + 2], &steps))) {
+    std::fprintf(stderr, "leak_report: PARTICLES and STEPS must be whole numbers from 1 to 10^8\n");
     return 1;
   }
-  const std::string output = positional[first];
-  const std::size_t particles = positional.size() > first + 1 ? std::size_t(std::stoul(positional[first + 1])) : 20000;
-  const int steps = positional.size() > first + 2 ? std::stoi(positional[first + 2]) : 120;
   std::vector<Entry> entries;
   std::string error;
   if (!(meshes.empty() ? standardEntries(positional[0], &entries, &error) : meshEntries(meshes, &entries, &error))) {
@@ -259,8 +277,8 @@ int main(int argc, char** argv) {
        << (mesh.closed ? "inside" : "other side") << " at end | contacts | too fast |\n";
     md << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (CaseSpec c : cases()) {
-      c.particles = particles;
-      c.steps = steps;
+      c.particles = std::size_t(particles);
+      c.steps = int(steps);
       const CaseResult r = runCase(*subject, c);
       std::fprintf(stderr, "leak_report: %s, %s: %llu crossings, %llu visible (%.1f s)\n", subject->label().c_str(),
                    c.name.c_str(), (unsigned long long)r.crossing_steps, (unsigned long long)r.visible_leaks,
@@ -271,7 +289,8 @@ int main(int argc, char** argv) {
   }
   std::ofstream out(output);
   out << (meshes.empty() ? kTitle : kMeshesTitle) << kMethod << "\n"
-      << thousands(particles) << " particles, " << steps << " steps of 0.016 s per case.\n";
+      << thousands(static_cast<unsigned long long>(particles)) << " particles, " << steps
+      << " steps of 0.016 s per case.\n";
   out << "\n## Summary\n\nThe goals of issue #10 are 0 in the bold columns. *Design speed*: the seven dngrid cases "
          "above the swept ones (static, drag + flow, spring, translating, spinning, scaled, resting); *at end*: "
          "particles inside deeper than 0.05 voxel, or on the other side of an open sheet.\n\n";
