@@ -263,6 +263,7 @@ TEST_F(BakeTest, PlanesBoundTheTrueDistanceAnywhereInTheirCells) {
       const File file = bakeMesh(shape.mesh, shape.name, options);
       const View& view = file.view();
       ASSERT_TRUE(view.conservativePlanes());
+      EXPECT_NE(std::string(view.metadata()).find("\"planes_checked_on_triangles\":true"), std::string::npos);
       const GridInfo& g = view.grid();
       std::mt19937 rng(11);
       std::uniform_real_distribution<float> unit(0.0f, 1.0f);

@@ -90,6 +90,9 @@ std::string metadataJson(const BakeOptions& o, const format::GridGeometry& g, co
                         {"lift", o.lift},
                         {"second_planes", o.second_planes}};
   meta["conservative_planes"] = (g.flags & format::kGridFlagConservativePlanes) != 0;
+  // Files baked before dngbake checked its planes at the cells' points against the triangles lack this
+  // (BAKING.md, "Conservative planes"): a reader can tell them apart and bake them again.
+  meta["planes_checked_on_triangles"] = (g.flags & format::kGridFlagConservativePlanes) != 0;
   meta["source"] = sourceJson(report);
   meta["units"] = unitsJson(report);
   return meta.dump();
