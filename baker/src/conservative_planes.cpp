@@ -19,7 +19,10 @@
 // and particles cut its edges; bunny and fandisk had 0.08 at worst). So each plane is then checked
 // against the triangles themselves at its cell's corners, edge and face centres, and lowered by the
 // largest excess found there plus the crease allowance. The unsigned distance is what the walk's proofs
-// rely on (walk.h): a point reading q > 0 has no surface within q.
+// rely on (walk.h): a point reading q > 0 has no surface within q. A sheet can still cross the cell
+// between those points where the plane reads above zero (a fold of libcgal-demo's open
+// mannequin-devil.off: 0.034 voxel, and a resting particle passed it), so the surface inside the cell is
+// read exactly too, each triangle clipped to the cell.
 #include "conservative_planes.h"
 #include "dng/format/limits.h"
 #include "parallel_blocks.h"
@@ -140,12 +143,27 @@ CellPoint cellPoint(int o, float h) {
   return {a, b, c, Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * h)};
 }
 
+// The most a plane (reading `d` at `centre`, normal `n`) reads on the surface inside its own cell, or
+// -infinity: exact, each triangle near the cell clipped to it (a plane peaks at a vertex of the clip).
+// Where a sheet crosses a cell between the lattice's points, only this sees the plane read above it.
+float readingOnSurface(const PlaneMesh& mesh, Vec3f centre, float d, Vec3f n, float h) {
+  float highest = -std::numeric_limits<float>::infinity();
+  const float half = 0.5f * h * (1.0f + 1e-5f); // a hair larger: rounding in the clip keeps every point
+  mesh.index->forEachTriangleNear(centre, format::kHalfCubeDiagonal * h * (1.0f + 1e-5f), [&](std::uint32_t t) {
+    Vec3f poly[12];
+    const int count = clipTriangleToBox(*mesh.soup, t, centre, half, poly);
+    for (int k = 0; k < count; ++k)
+      highest = std::max(highest, d + dot(n, poly[k] - centre));
+  });
+  return highest;
+}
+
 // Lowers further each plane `lowered` left above the unsigned distance to the triangles at one of its
 // cell's points (the reading capped at the guaranteed reach, View::guaranteedReach: the runtime takes no
-// more from a plane): by that excess plus the crease allowance. Each lattice point is asked of Embree
-// once, within the largest radius any of its cells needs (a surface point closer than a reading, less
-// the allowance, matters; a small radius is cheap).
-void lowerToTriangles(const Neighbourhood& hood, const ClosestPointIndex& index, const format::GridGeometry& g,
+// more from a plane), or above zero on the surface inside its cell: by that excess plus the crease
+// allowance. Each lattice point is asked of Embree once, within the largest radius any of its cells
+// needs (a surface point closer than a reading, less the allowance, matters; a small radius is cheap).
+void lowerToTriangles(const Neighbourhood& hood, const PlaneMesh& mesh, const format::GridGeometry& g,
                       const VoxelBlock& block, float* io_lowered) {
   const float h = g.voxel_size, slack = kAllowanceVoxels * h;
   const float reach = g.band - format::kHalfCubeDiagonal * h;
@@ -178,7 +196,7 @@ void lowerToTriangles(const Neighbourhood& hood, const ClosestPointIndex& index,
         const int at = latticeAt(a, b, c);
         if (!(radius[at] > 0.0f)) continue;
         const Vec3f p = first + Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * h);
-        const ClosestPointIndex::Hit hit = index.query(p, radius[at]);
+        const ClosestPointIndex::Hit hit = mesh.index->query(p, radius[at]);
         distance[at] = hit.found ? hit.distance : std::numeric_limits<float>::infinity();
       }
   float missed[VoxelBlock::kVoxels] = {};
@@ -188,13 +206,24 @@ void lowerToTriangles(const Neighbourhood& hood, const ClosestPointIndex& index,
       m = std::max(m, r - distance[at]);
     }
   });
+  for (int x = 0; x < VoxelBlock::kDim; ++x)
+    for (int y = 0; y < VoxelBlock::kDim; ++y)
+      for (int z = 0; z < VoxelBlock::kDim; ++z) {
+        const int at = Neighbourhood::at(x, y, z), v = VoxelBlock::offset(x, y, z);
+        // The exact distance at the centre says whether the surface can reach into the cell at all.
+        if (!lowersPlane(hood, g, block, x, y, z) || std::fabs(hood.distance[at]) > format::kHalfCubeDiagonal * h)
+          continue;
+        const Vec3f centre = first + Vec3f{float(x), float(y), float(z)} * h;
+        const float on_surface = readingOnSurface(mesh, centre, hood.distance[at] - io_lowered[v], hood.normal[at], h);
+        if (on_surface > slack) missed[v] = std::max(missed[v], on_surface);
+      }
   for (int v = 0; v < VoxelBlock::kVoxels; ++v)
     if (missed[v] > 0.0f) io_lowered[v] += missed[v] + kCreaseAllowanceVoxels * h;
 }
 
 // How far to lower each voxel of one block (VoxelBlock order): the bound over its cell, then the check
 // against the triangles.
-void lowerBlock(const Neighbourhood& hood, const ClosestPointIndex& index, const format::GridGeometry& g,
+void lowerBlock(const Neighbourhood& hood, const PlaneMesh& mesh, const format::GridGeometry& g,
                 const VoxelBlock& block, float* out) {
   const float h = g.voxel_size;
   for (int x = 0; x < VoxelBlock::kDim; ++x)
@@ -205,7 +234,7 @@ void lowerBlock(const Neighbourhood& hood, const ClosestPointIndex& index, const
         out[VoxelBlock::offset(x, y, z)] =
             lowering(planeExcess(hood, x, y, z, hood.distance[at], hood.normal[at], g.band, h), h);
       }
-  lowerToTriangles(hood, index, g, block, out);
+  lowerToTriangles(hood, mesh, g, block, out);
 }
 
 } // namespace
@@ -218,7 +247,7 @@ BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup& soup, 
   const BakeStatus built = index.build(soup);
   if (!built.ok()) return built;
   if (second_planes) io->startSecondPlanes();
-  const SecondPlaneMesh mesh{&soup, &index};
+  const PlaneMesh mesh{&soup, &index};
   const std::vector<SecondPlaneBlock> seconds =
       second_planes ? io->secondPlaneBlocks() : std::vector<SecondPlaneBlock>();
   std::vector<float> lowered(blocks.size() * VoxelBlock::kVoxels, 0.0f);
@@ -226,7 +255,7 @@ BakeStatus makePlanesConservative(bool keep_accurate, const TriangleSoup& soup, 
       forEachBlockInParallel(blocks.size(), "conservative", progress, progress_user, [&](std::size_t b) {
         Neighbourhood hood; // readNeighbourhood fills all of it
         readNeighbourhood(*io, blocks[b], &hood);
-        lowerBlock(hood, index, g, blocks[b], &lowered[b * VoxelBlock::kVoxels]);
+        lowerBlock(hood, mesh, g, blocks[b], &lowered[b * VoxelBlock::kVoxels]);
         if (second_planes) secondBoundsOfBlock(hood, mesh, g, &lowered[b * VoxelBlock::kVoxels], seconds[b]);
       });
   if (!finished) return BakeStatus::cancelled();

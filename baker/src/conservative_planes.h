@@ -18,16 +18,21 @@ struct Neighbourhood {
   static int at(int x, int y, int z) { return ((z + 1) * kHalo + (y + 1)) * kHalo + (x + 1); }
 };
 
-/// The mesh the second bounds are proven against: a closed, consistently oriented soup and its index.
-struct SecondPlaneMesh {
+/// The mesh the planes are checked against, and its index. The second bounds need a closed,
+/// consistently oriented soup.
+struct PlaneMesh {
   const TriangleSoup* soup;
   const ClosestPointIndex* index;
 };
 
+/// Triangle t of `soup` clipped to the box centre +- half: `poly` (room for 12) gets the polygon, the
+/// count of its vertices is returned (0 when the triangle misses the box).
+int clipTriangleToBox(const TriangleSoup& soup, std::uint32_t t, Vec3f centre, float half, Vec3f* poly);
+
 /// The second bounds of one block's voxels (format::FieldSource::readSecondPlanes says what they are),
 /// given `hood` and how far each voxel's own plane was lowered (VoxelBlock order), written to `out`.
 /// Thread-safe for different blocks.
-void secondBoundsOfBlock(const Neighbourhood& hood, const SecondPlaneMesh& mesh, const format::GridGeometry& g,
+void secondBoundsOfBlock(const Neighbourhood& hood, const PlaneMesh& mesh, const format::GridGeometry& g,
                          const float* lowered, const SecondPlaneBlock& out);
 
 } // namespace baker

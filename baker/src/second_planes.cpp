@@ -95,20 +95,6 @@ int clipToHalfSpace(Vec3f* poly, int count, Vec3f n, float limit) {
   return out;
 }
 
-// Triangle t clipped to the box centre +- half: poly gets the polygon (at most 9 vertices).
-int clipToBox(const TriangleSoup& soup, std::uint32_t t, Vec3f centre, float half, Vec3f* poly) {
-  const auto& tri = soup.triangles[t];
-  for (int k = 0; k < 3; ++k)
-    poly[k] = soup.vertices[tri[k]];
-  int count = 3;
-  for (int axis = 0; axis < 3 && count > 0; ++axis) {
-    const Vec3f e{axis == 0 ? 1.0f : 0.0f, axis == 1 ? 1.0f : 0.0f, axis == 2 ? 1.0f : 0.0f};
-    count = clipToHalfSpace(poly, count, e, component(centre, axis) + half);
-    if (count > 0) count = clipToHalfSpace(poly, count, e * -1.0f, half - component(centre, axis));
-  }
-  return count;
-}
-
 // The highest `plane` (anchored at `centre`) reads on the polygon: a linear function peaks at a vertex.
 float highestOn(const Vec3f* poly, int count, Vec3f centre, const PlaneAtCentre& plane) {
   float highest = kNone;
@@ -133,7 +119,7 @@ float cornerPeak(const TriangleSoup& soup, std::uint32_t t, Vec3f centre, const 
 // reading over its part inside the box around the ball (for a pair, the smaller plane's: over the part
 // where A lies below B, A's highest, and B's over the rest), never more than the bound reads anywhere
 // in the ball.
-float surfaceRise(const SecondPlaneMesh& mesh, Vec3f centre, const Bound& bound, float radius) {
+float surfaceRise(const PlaneMesh& mesh, Vec3f centre, const Bound& bound, float radius) {
   float rise = 0.0f;
   const float top = bound.at({}) + radius;
   mesh.index->forEachTriangleNear(centre, radius, [&](std::uint32_t t) {
@@ -142,7 +128,7 @@ float surfaceRise(const SecondPlaneMesh& mesh, Vec3f centre, const Bound& bound,
     if (cornerPeak(*mesh.soup, t, centre, bound) <= rise) return;
     Vec3f poly[12];
     // Slightly larger than the ball, so rounding in the clip cannot drop a point inside it.
-    const int count = clipToBox(*mesh.soup, t, centre, radius * (1.0f + 1e-5f), poly);
+    const int count = clipTriangleToBox(*mesh.soup, t, centre, radius * (1.0f + 1e-5f), poly);
     float highest = count == 0 ? top : kNone; // an empty clip cannot happen for a triangle this near: never trust it
     if (count > 0 && !bound.pair) highest = highestOn(poly, count, centre, bound.b);
     if (count > 0 && bound.pair) {
@@ -164,7 +150,7 @@ float surfaceRise(const SecondPlaneMesh& mesh, Vec3f centre, const Bound& bound,
 // `bound` made a lower bound over the cell centred at `centre` (the test at the top of this file):
 // lowered by the surface's rise, and kept only when `outside` (an offset from the centre, a point known
 // to be outside: the centre of a voxel whose distance is positive) still reads positive.
-Bound lowerBoundOverCell(const SecondPlaneMesh& mesh, Vec3f centre, Bound bound, Vec3f outside, float h) {
+Bound lowerBoundOverCell(const PlaneMesh& mesh, Vec3f centre, Bound bound, Vec3f outside, float h) {
   const auto highest_in_cell = [h](const PlaneAtCentre& p) {
     return p.d + (std::fabs(p.n.x) + std::fabs(p.n.y) + std::fabs(p.n.z)) * 0.5f * h;
   };
@@ -189,8 +175,8 @@ struct Neighbour {
 
 // The best of `candidates` (up to kCandidates, by raw gain) once proven, if it beats `best_gain`.
 template <class MakeBound>
-void tryBest(Neighbour* candidates, int count, const SecondPlaneMesh& mesh, Vec3f centre, const PlaneAtCentre& first,
-             float h, MakeBound make, float* io_best_gain, Bound* io_best) {
+void tryBest(Neighbour* candidates, int count, const PlaneMesh& mesh, Vec3f centre, const PlaneAtCentre& first, float h,
+             MakeBound make, float* io_best_gain, Bound* io_best) {
   std::sort(candidates, candidates + count, [](const Neighbour& x, const Neighbour& y) { return x.raw > y.raw; });
   const float useful = kUsefulClearanceVoxels * h;
   for (int c = 0; c < std::min(count, kCandidates); ++c) {
@@ -203,7 +189,7 @@ void tryBest(Neighbour* candidates, int count, const SecondPlaneMesh& mesh, Vec3
 }
 
 // Voxel (x, y, z)'s best second bound, given its own plane before (`exact`) and after the lowering.
-Bound secondBound(const Neighbourhood& hood, const SecondPlaneMesh& mesh, int x, int y, int z, Vec3f centre,
+Bound secondBound(const Neighbourhood& hood, const PlaneMesh& mesh, int x, int y, int z, Vec3f centre,
                   const PlaneAtCentre& exact, const PlaneAtCentre& first, const format::GridGeometry& g) {
   const float h = g.voxel_size, useful = kUsefulClearanceVoxels * h;
   // A pair needs the voxel's own centre outside: it shows the pair's region is.
@@ -248,7 +234,20 @@ Bound secondBound(const Neighbourhood& hood, const SecondPlaneMesh& mesh, int x,
 
 } // namespace
 
-void secondBoundsOfBlock(const Neighbourhood& hood, const SecondPlaneMesh& mesh, const format::GridGeometry& g,
+int clipTriangleToBox(const TriangleSoup& soup, std::uint32_t t, Vec3f centre, float half, Vec3f* poly) {
+  const auto& tri = soup.triangles[t];
+  for (int k = 0; k < 3; ++k)
+    poly[k] = soup.vertices[tri[k]];
+  int count = 3;
+  for (int axis = 0; axis < 3 && count > 0; ++axis) {
+    const Vec3f e{axis == 0 ? 1.0f : 0.0f, axis == 1 ? 1.0f : 0.0f, axis == 2 ? 1.0f : 0.0f};
+    count = clipToHalfSpace(poly, count, e, component(centre, axis) + half);
+    if (count > 0) count = clipToHalfSpace(poly, count, e * -1.0f, half - component(centre, axis));
+  }
+  return count;
+}
+
+void secondBoundsOfBlock(const Neighbourhood& hood, const PlaneMesh& mesh, const format::GridGeometry& g,
                          const float* lowered, const SecondPlaneBlock& out) {
   const float h = g.voxel_size;
   for (int x = 0; x < VoxelBlock::kDim; ++x)
