@@ -143,13 +143,19 @@ CellPoint cellPoint(int o, float h) {
   return {a, b, c, Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * h)};
 }
 
-// The most a plane (reading `d` at `centre`, normal `n`) reads on the surface inside its own cell, or
-// -infinity: exact, each triangle near the cell clipped to it (a plane peaks at a vertex of the clip).
-// Where a sheet crosses a cell between the lattice's points, only this sees the plane read above it.
-float readingOnSurface(const PlaneMesh& mesh, Vec3f centre, float d, Vec3f n, float h) {
-  float highest = -std::numeric_limits<float>::infinity();
+// The most a plane (reading `d` at `centre`, normal `n`) reads on the surface inside its own cell, as
+// far as it reads above `floor`: exact, each triangle near the cell clipped to it (a plane peaks at a
+// vertex of the clip). Where a sheet crosses a cell between the lattice's points, only this sees the
+// plane read above it.
+float readingOnSurface(const PlaneMesh& mesh, Vec3f centre, float d, Vec3f n, float h, float floor) {
+  float highest = floor;
   const float half = 0.5f * h * (1.0f + 1e-5f); // a hair larger: rounding in the clip keeps every point
   mesh.index->forEachTriangleNear(centre, format::kHalfCubeDiagonal * h * (1.0f + 1e-5f), [&](std::uint32_t t) {
+    // Most triangles lie below the plane: none of its part in the cell reads more than its corners do.
+    float corners = -std::numeric_limits<float>::infinity();
+    for (int k = 0; k < 3; ++k)
+      corners = std::max(corners, d + dot(n, mesh.soup->vertices[mesh.soup->triangles[t][std::size_t(k)]] - centre));
+    if (corners <= highest) return;
     Vec3f poly[12];
     const int count = clipTriangleToBox(*mesh.soup, t, centre, half, poly);
     for (int k = 0; k < count; ++k)
@@ -214,7 +220,8 @@ void lowerToTriangles(const Neighbourhood& hood, const PlaneMesh& mesh, const fo
         if (!lowersPlane(hood, g, block, x, y, z) || std::fabs(hood.distance[at]) > format::kHalfCubeDiagonal * h)
           continue;
         const Vec3f centre = first + Vec3f{float(x), float(y), float(z)} * h;
-        const float on_surface = readingOnSurface(mesh, centre, hood.distance[at] - io_lowered[v], hood.normal[at], h);
+        const float on_surface =
+            readingOnSurface(mesh, centre, hood.distance[at] - io_lowered[v], hood.normal[at], h, slack);
         if (on_surface > slack) missed[v] = std::max(missed[v], on_surface);
       }
   for (int v = 0; v < VoxelBlock::kVoxels; ++v)
