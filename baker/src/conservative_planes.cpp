@@ -164,21 +164,27 @@ float readingOnSurface(const PlaneMesh& mesh, Vec3f centre, float d, Vec3f n, fl
   return highest;
 }
 
-// Lowers further each plane `lowered` left above the unsigned distance to the triangles at one of its
-// cell's points (the reading capped at the guaranteed reach, View::guaranteedReach: the runtime takes no
-// more from a plane), or above zero on the surface inside its cell: by that excess plus the crease
-// allowance. Each lattice point is asked of Embree once, within the largest radius any of its cells
-// needs (a surface point closer than a reading, less the allowance, matters; a small radius is cheap).
-void lowerToTriangles(const Neighbourhood& hood, const PlaneMesh& mesh, const format::GridGeometry& g,
-                      const VoxelBlock& block, float* io_lowered) {
-  const float h = g.voxel_size, slack = kAllowanceVoxels * h;
-  const float reach = g.band - format::kHalfCubeDiagonal * h;
-  const auto reading = [&](int x, int y, int z, const CellPoint& p) {
-    const int at = Neighbourhood::at(x, y, z);
-    const float d = hood.distance[at] - io_lowered[VoxelBlock::offset(x, y, z)];
-    return std::min(d + dot(hood.normal[at], p.offset), reach);
-  };
-  const auto forEachCellPoint = [&](auto&& visit) {
+// One block's planes as the check against the triangles reads them: the exact distances and normals
+// (`hood`), and how far each is lowered so far (`lowered`, VoxelBlock order).
+struct BlockPlanes {
+  const Neighbourhood& hood;
+  const format::GridGeometry& g;
+  const VoxelBlock& block;
+  float* lowered;
+  float h = g.voxel_size;
+  float slack = kAllowanceVoxels * h;
+  float reach = g.band - format::kHalfCubeDiagonal * h; // View::guaranteedReach: the most the runtime takes
+  Vec3f first =
+      g.voxelCentre(std::uint32_t(block.origin[0]), std::uint32_t(block.origin[1]), std::uint32_t(block.origin[2]));
+
+  float distance(int x, int y, int z) const {
+    return hood.distance[Neighbourhood::at(x, y, z)] - lowered[VoxelBlock::offset(x, y, z)];
+  }
+  Vec3f normal(int x, int y, int z) const { return hood.normal[Neighbourhood::at(x, y, z)]; }
+
+  // Calls visit(x, y, z, lattice index, reading) for every point of every checked cell where the plane
+  // reads above the allowance, the reading capped at the reach.
+  template <class Visit> void forEachCellPoint(Visit&& visit) const {
     for (int x = 0; x < VoxelBlock::kDim; ++x)
       for (int y = 0; y < VoxelBlock::kDim; ++y)
         for (int z = 0; z < VoxelBlock::kDim; ++z) {
@@ -186,46 +192,71 @@ void lowerToTriangles(const Neighbourhood& hood, const PlaneMesh& mesh, const fo
           for (int o = 0; o < 27; ++o) {
             if (o == 13) continue;
             const CellPoint p = cellPoint(o, h);
-            const float r = reading(x, y, z, p);
+            const float r = std::min(distance(x, y, z) + dot(normal(x, y, z), p.offset), reach);
             if (r > slack) visit(x, y, z, latticeAt(2 * x + p.a, 2 * y + p.b, 2 * z + p.c), r);
           }
         }
-  };
-  float radius[kLattice * kLattice * kLattice] = {};
-  forEachCellPoint([&](int, int, int, int at, float r) { radius[at] = std::max(radius[at], r - slack); });
-  float distance[kLattice * kLattice * kLattice];
-  const Vec3f first =
-      g.voxelCentre(std::uint32_t(block.origin[0]), std::uint32_t(block.origin[1]), std::uint32_t(block.origin[2]));
+  }
+};
+
+constexpr int kLatticePoints = kLattice * kLattice * kLattice;
+
+// The unsigned distance to the triangles at each lattice point a cell reads (infinity beyond the radius
+// asked): one Embree query per point, within the largest radius any of its cells needs (a surface point
+// closer than a reading, less the allowance, matters; a small radius is cheap).
+void latticeDistances(const BlockPlanes& planes, const PlaneMesh& mesh, float* out) {
+  float radius[kLatticePoints] = {};
+  planes.forEachCellPoint([&](int, int, int, int at, float r) { radius[at] = std::max(radius[at], r - planes.slack); });
   for (int c = 0; c < kLattice; ++c)
     for (int b = 0; b < kLattice; ++b)
       for (int a = 0; a < kLattice; ++a) {
         const int at = latticeAt(a, b, c);
         if (!(radius[at] > 0.0f)) continue;
-        const Vec3f p = first + Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * h);
+        const Vec3f p = planes.first + Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * planes.h);
         const ClosestPointIndex::Hit hit = mesh.index->query(p, radius[at]);
-        distance[at] = hit.found ? hit.distance : std::numeric_limits<float>::infinity();
+        out[at] = hit.found ? hit.distance : std::numeric_limits<float>::infinity();
       }
-  float missed[VoxelBlock::kVoxels] = {};
-  forEachCellPoint([&](int x, int y, int z, int at, float r) {
-    if (distance[at] < r - slack) {
-      float& m = missed[VoxelBlock::offset(x, y, z)];
-      m = std::max(m, r - distance[at]);
-    }
+}
+
+// Raises io_missed (VoxelBlock order) to the most each plane reads above the unsigned distance at its
+// cell's points, where that is more than the allowance.
+void excessAtLattice(const BlockPlanes& planes, const PlaneMesh& mesh, float* io_missed) {
+  float distance[kLatticePoints];
+  latticeDistances(planes, mesh, distance);
+  planes.forEachCellPoint([&](int x, int y, int z, int at, float r) {
+    if (!(distance[at] < r - planes.slack)) return;
+    float& m = io_missed[VoxelBlock::offset(x, y, z)];
+    m = std::max(m, r - distance[at]);
   });
+}
+
+// Raises io_missed to the most each plane reads on the surface inside its cell, where that is more than
+// the allowance; only cells the surface can reach into (the exact distance at the centre says so).
+void excessOnSurface(const BlockPlanes& planes, const PlaneMesh& mesh, float* io_missed) {
   for (int x = 0; x < VoxelBlock::kDim; ++x)
     for (int y = 0; y < VoxelBlock::kDim; ++y)
       for (int z = 0; z < VoxelBlock::kDim; ++z) {
-        const int at = Neighbourhood::at(x, y, z), v = VoxelBlock::offset(x, y, z);
-        // The exact distance at the centre says whether the surface can reach into the cell at all.
-        if (!lowersPlane(hood, g, block, x, y, z) || std::fabs(hood.distance[at]) > format::kHalfCubeDiagonal * h)
+        if (!lowersPlane(planes.hood, planes.g, planes.block, x, y, z) ||
+            std::fabs(planes.hood.distance[Neighbourhood::at(x, y, z)]) > format::kHalfCubeDiagonal * planes.h)
           continue;
-        const Vec3f centre = first + Vec3f{float(x), float(y), float(z)} * h;
+        const Vec3f centre = planes.first + Vec3f{float(x), float(y), float(z)} * planes.h;
         const float on_surface =
-            readingOnSurface(mesh, centre, hood.distance[at] - io_lowered[v], hood.normal[at], h, slack);
-        if (on_surface > slack) missed[v] = std::max(missed[v], on_surface);
+            readingOnSurface(mesh, centre, planes.distance(x, y, z), planes.normal(x, y, z), planes.h, planes.slack);
+        float& m = io_missed[VoxelBlock::offset(x, y, z)];
+        if (on_surface > planes.slack) m = std::max(m, on_surface);
       }
+}
+
+// Lowers further each plane `lowered` left above the unsigned distance to the triangles at one of its
+// cell's points, or above zero on the surface inside its cell: by that excess plus the crease allowance.
+void lowerToTriangles(const Neighbourhood& hood, const PlaneMesh& mesh, const format::GridGeometry& g,
+                      const VoxelBlock& block, float* io_lowered) {
+  const BlockPlanes planes{hood, g, block, io_lowered};
+  float missed[VoxelBlock::kVoxels] = {};
+  excessAtLattice(planes, mesh, missed);
+  excessOnSurface(planes, mesh, missed);
   for (int v = 0; v < VoxelBlock::kVoxels; ++v)
-    if (missed[v] > 0.0f) io_lowered[v] += missed[v] + kCreaseAllowanceVoxels * h;
+    if (missed[v] > 0.0f) io_lowered[v] += missed[v] + kCreaseAllowanceVoxels * planes.h;
 }
 
 // How far to lower each voxel of one block (VoxelBlock order): the bound over its cell, then the check
