@@ -269,7 +269,7 @@ unpack_meshes() {
 }
 
 # The meshes the tests, the demo and the leak table use.
-fetch_data() { unpack_meshes bunny00.off fandisk.off blade.off cheese.off mannequin-devil.off; }
+fetch_data() { unpack_meshes bunny00.off fandisk.off blade.off cheese.off mannequin-devil.off elephant-with-holes.off; }
 
 build_fuzzers() {
   install_packages "${PACKAGES_BUILD[@]}" clang libclang-rt-14-dev libopenmesh-dev libtinygltf-dev libassimp-dev

@@ -143,14 +143,21 @@ CellPoint cellPoint(int o, float h) {
   return {a, b, c, Vec3f{float(a - 1), float(b - 1), float(c - 1)} * (0.5f * h)};
 }
 
-// The most a plane (reading `d` at `centre`, normal `n`) reads on the surface inside its own cell, as
-// far as it reads above `floor`: exact, each triangle near the cell clipped to it (a plane peaks at a
-// vertex of the clip). Where a sheet crosses a cell between the lattice's points, only this sees the
-// plane read above it.
+// How far outside its cell the surface is read against a plane, in voxels (readingOnSurface).
+constexpr float kSurfaceShellVoxels = 0.1f;
+
+// The most a plane (reading `d` at `centre`, normal `n`) reads on the surface inside its own cell and
+// within kSurfaceShellVoxels of it, as far as it reads above `floor`: exact, each triangle near the cell
+// clipped to that box (a plane peaks at a vertex of the clip). Where a sheet crosses a cell between the
+// lattice's points, only this sees the plane read above it. Just outside the cell it matters too: at
+// the cell point nearest a surface point y, a short way off, the plane reads about P(y) and the distance
+// is at most that way. Beside the rim of a hole in libcgal-demo's open elephant-with-holes.off, a rim
+// 0.02 voxel outside a cell's face left its plane reading 0.088 voxel above the distance there.
 float readingOnSurface(const PlaneMesh& mesh, Vec3f centre, float d, Vec3f n, float h, float floor) {
   float highest = floor;
-  const float half = 0.5f * h * (1.0f + 1e-5f); // a hair larger: rounding in the clip keeps every point
-  mesh.index->forEachTriangleNear(centre, format::kHalfCubeDiagonal * h * (1.0f + 1e-5f), [&](std::uint32_t t) {
+  // A hair larger: rounding in the clip keeps every point.
+  const float half = (0.5f + kSurfaceShellVoxels) * h * (1.0f + 1e-5f);
+  mesh.index->forEachTriangleNear(centre, std::sqrt(3.0f) * half, [&](std::uint32_t t) {
     // Most triangles lie below the plane: none of its part in the cell reads more than its corners do.
     float corners = -std::numeric_limits<float>::infinity();
     for (int k = 0; k < 3; ++k)
@@ -230,14 +237,16 @@ void excessAtLattice(const BlockPlanes& planes, const PlaneMesh& mesh, float* io
   });
 }
 
-// Raises io_missed to the most each plane reads on the surface inside its cell, where that is more than
-// the allowance; only cells the surface can reach into (the exact distance at the centre says so).
+// Raises io_missed to the most each plane reads on the surface in and just around its cell
+// (readingOnSurface), where that is more than the allowance; only cells the surface can reach (the exact
+// distance at the centre says so).
 void excessOnSurface(const BlockPlanes& planes, const PlaneMesh& mesh, float* io_missed) {
   for (int x = 0; x < VoxelBlock::kDim; ++x)
     for (int y = 0; y < VoxelBlock::kDim; ++y)
       for (int z = 0; z < VoxelBlock::kDim; ++z) {
         if (!lowersPlane(planes.hood, planes.g, planes.block, x, y, z) ||
-            std::fabs(planes.hood.distance[Neighbourhood::at(x, y, z)]) > format::kHalfCubeDiagonal * planes.h)
+            std::fabs(planes.hood.distance[Neighbourhood::at(x, y, z)]) >
+                std::sqrt(3.0f) * (0.5f + kSurfaceShellVoxels) * planes.h)
           continue;
         const Vec3f centre = planes.first + Vec3f{float(x), float(y), float(z)} * planes.h;
         const float on_surface =
