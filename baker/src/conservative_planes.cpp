@@ -145,6 +145,8 @@ CellPoint cellPoint(int o, float h) {
 
 // How far outside its cell the surface is read against a plane, in voxels (readingOnSurface).
 constexpr float kSurfaceShellVoxels = 0.1f;
+// Half the edge of the box readingOnSurface reads, around a cell of edge h.
+float surfaceBoxHalf(float h) { return (0.5f + kSurfaceShellVoxels) * h; }
 
 // The most a plane (reading `d` at `centre`, normal `n`) reads on the surface inside its own cell and
 // within kSurfaceShellVoxels of it, as far as it reads above `floor`: exact, each triangle near the cell
@@ -156,7 +158,7 @@ constexpr float kSurfaceShellVoxels = 0.1f;
 float readingOnSurface(const PlaneMesh& mesh, Vec3f centre, float d, Vec3f n, float h, float floor) {
   float highest = floor;
   // A hair larger: rounding in the clip keeps every point.
-  const float half = (0.5f + kSurfaceShellVoxels) * h * (1.0f + 1e-5f);
+  const float half = surfaceBoxHalf(h) * (1.0f + 1e-5f);
   mesh.index->forEachTriangleNear(centre, std::sqrt(3.0f) * half, [&](std::uint32_t t) {
     // Most triangles lie below the plane: none of its part in the cell reads more than its corners do.
     float corners = -std::numeric_limits<float>::infinity();
@@ -180,7 +182,7 @@ struct BlockPlanes {
   float* lowered;
   float h = g.voxel_size;
   float slack = kAllowanceVoxels * h;
-  float reach = g.band - format::kHalfCubeDiagonal * h; // View::guaranteedReach: the most the runtime takes
+  float reach = format::guaranteedReach(g.band, h); // the most the runtime takes from a plane
   Vec3f first =
       g.voxelCentre(std::uint32_t(block.origin[0]), std::uint32_t(block.origin[1]), std::uint32_t(block.origin[2]));
 
@@ -245,8 +247,7 @@ void excessOnSurface(const BlockPlanes& planes, const PlaneMesh& mesh, float* io
     for (int y = 0; y < VoxelBlock::kDim; ++y)
       for (int z = 0; z < VoxelBlock::kDim; ++z) {
         if (!lowersPlane(planes.hood, planes.g, planes.block, x, y, z) ||
-            std::fabs(planes.hood.distance[Neighbourhood::at(x, y, z)]) >
-                std::sqrt(3.0f) * (0.5f + kSurfaceShellVoxels) * planes.h)
+            std::fabs(planes.hood.distance[Neighbourhood::at(x, y, z)]) > std::sqrt(3.0f) * surfaceBoxHalf(planes.h))
           continue;
         const Vec3f centre = planes.first + Vec3f{float(x), float(y), float(z)} * planes.h;
         const float on_surface =

@@ -30,7 +30,7 @@ float bandVoxels(const BakeOptions& o, float voxel) {
 float positionSpacingVoxels(const format::GridGeometry& g) {
   float farthest = 0.0f;
   for (int a = 0; a < 3; ++a) {
-    const float lo = a == 0 ? g.origin.x : a == 1 ? g.origin.y : g.origin.z;
+    const float lo = component(g.origin, a);
     farthest = std::max({farthest, std::fabs(lo), std::fabs(lo + float(g.dims[a]) * g.voxel_size)});
   }
   return (std::nextafter(farthest, INFINITY) - farthest) / g.voxel_size;

@@ -59,39 +59,23 @@ testing::Mesh flipped(testing::Mesh m) {
   return m;
 }
 
-// Loads and centres the mesh; its report for the caller.
-bool loadCentred(const std::string& path, const std::string& name, LeakMesh* out, baker::MeshReport* out_report,
-                 std::string* out_error) {
+} // namespace
+
+bool loadMeshFile(const std::string& path, const std::string& name, LeakMesh* out, std::string* out_error) {
   baker::TriangleSoup soup;
   const baker::BakeStatus status = baker::loadMesh(path, &soup);
   if (!status.ok()) {
     *out_error = path + ": " + status.message;
     return false;
   }
-  *out_report = baker::checkMesh(soup);
-  const Vec3f centre = (out_report->bounds_min + out_report->bounds_max) * 0.5f;
+  const baker::MeshReport report = baker::checkMesh(soup);
+  const Vec3f centre = (report.bounds_min + report.bounds_max) * 0.5f;
   out->name = name;
+  out->closed = report.closed();
   out->mesh.vertices.clear();
   for (const Vec3f& v : soup.vertices)
     out->mesh.vertices.push_back(v - centre);
   out->mesh.triangles = soup.triangles;
-  return true;
-}
-
-} // namespace
-
-bool loadMeshFile(const std::string& path, const std::string& name, bool closed, LeakMesh* out,
-                  std::string* out_error) {
-  baker::MeshReport report;
-  if (!loadCentred(path, name, out, &report, out_error)) return false;
-  out->closed = closed;
-  return true;
-}
-
-bool loadMeshFile(const std::string& path, const std::string& name, LeakMesh* out, std::string* out_error) {
-  baker::MeshReport report;
-  if (!loadCentred(path, name, out, &report, out_error)) return false;
-  out->closed = report.closed();
   return true;
 }
 

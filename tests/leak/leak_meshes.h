@@ -25,11 +25,9 @@ struct LeakMesh {
 constexpr int kResolution = 64;
 constexpr float kMeshVoxels = 52.0f; // 64 minus the padding of a 3-voxel-per-step band on each side
 
-/// Loads a mesh file with the baker's reader and moves its bounding-box centre to the origin. False
-/// (with *out_error) when it cannot be read.
-bool loadMeshFile(const std::string& path, const std::string& name, bool closed, LeakMesh* out, std::string* out_error);
-/// The same, judged closed when the mesh is (no boundary or non-manifold edge: baker::MeshReport::closed),
-/// open otherwise: for meshes the harness knows nothing about.
+/// Loads a mesh file with the baker's reader and moves its bounding-box centre to the origin. It is
+/// judged closed when it is (no boundary or non-manifold edge: baker::MeshReport::closed), open
+/// otherwise. False (with *out_error) when it cannot be read.
 bool loadMeshFile(const std::string& path, const std::string& name, LeakMesh* out, std::string* out_error);
 
 /// A closed plate half a voxel thick, 52 x 40 voxels: thinner than a voxel.

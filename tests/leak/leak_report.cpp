@@ -34,18 +34,17 @@ bool standardEntries(const std::string& mesh_dir, std::vector<Entry>* out, std::
   struct Real {
     const char* file;
     const char* name;
-    bool closed;
     std::vector<NormalMode> modes;
   };
   const Real real[] = {
-      {"bunny00.off", "bunny", true, {NormalMode::kNormalBlur, NormalMode::kExact}},
-      {"fandisk.off", "fandisk", true, {NormalMode::kNormalBlur, NormalMode::kExact}},
-      {"blade.off", "blade", false, {NormalMode::kPotential, NormalMode::kNormalBlur, NormalMode::kExact}},
-      {"cheese.off", "cheese", true, {NormalMode::kNormalBlur, NormalMode::kExact}},
+      {"bunny00.off", "bunny", {NormalMode::kNormalBlur, NormalMode::kExact}},
+      {"fandisk.off", "fandisk", {NormalMode::kNormalBlur, NormalMode::kExact}},
+      {"blade.off", "blade", {NormalMode::kPotential, NormalMode::kNormalBlur, NormalMode::kExact}}, // open
+      {"cheese.off", "cheese", {NormalMode::kNormalBlur, NormalMode::kExact}},
   };
   for (const Real& r : real) {
     LeakMesh mesh;
-    if (!loadMeshFile(mesh_dir + "/" + r.file, r.name, r.closed, &mesh, out_error)) return false;
+    if (!loadMeshFile(mesh_dir + "/" + r.file, r.name, &mesh, out_error)) return false;
     for (NormalMode mode : r.modes)
       out->push_back({mesh, mode});
   }

@@ -139,7 +139,7 @@ protected:
         m = concaveNotch();
       else if (mesh == "thin plate")
         m = thinPlate();
-      else if (!loadMeshFile(std::string(DNG_MESH_DIR) + "/" + mesh + ".off", mesh, &m, &error)) // closed or open
+      else if (!loadMeshFile(std::string(DNG_MESH_DIR) + "/" + mesh + ".off", mesh, &m, &error))
         ADD_FAILURE() << error << " (bash setup.sh test fetches the meshes)";
       if (!m.mesh.triangles.empty()) slot = bakeSubject(m, mode, folder_->path().string(), &error);
       if (!slot) ADD_FAILURE() << error;

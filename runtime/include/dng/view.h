@@ -100,7 +100,7 @@ public:
   /// Distance from the surface (local units) within which nearest queries are guaranteed to answer
   /// kInBand with a normal: band - sqrt(3)/2 * voxel_size, because a point belongs to its voxel and
   /// the voxel counts as far when its centre is. A particle system's design speed is this reach / dt.
-  float guaranteedReach() const { return grid_.band - format::kHalfCubeDiagonal * grid_.voxel_size; }
+  float guaranteedReach() const { return format::guaranteedReach(grid_.band, grid_.voxel_size); }
 
   const GridInfo& grid() const { return grid_; }
   /// True when the file promises that every plane bounds the true distance from below over its cell

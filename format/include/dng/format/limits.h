@@ -18,6 +18,11 @@ inline constexpr std::uint32_t kMaxAxisVoxels = 1u << 24;
 /// in voxels. A tile's half-diagonal is this times its edge.
 inline constexpr float kHalfCubeDiagonal = 0.8660254f;
 
+/// The guaranteed reach of a band `band` wide over voxels of `voxel_size` (docs/FORMAT.md §5.1): every
+/// point of a far outside voxel's cell is at least this far from the surface, and no reader takes more
+/// than this from a plane.
+inline constexpr float guaranteedReach(float band, float voxel_size) { return band - kHalfCubeDiagonal * voxel_size; }
+
 /// Dense normals are unit or zero; readers allow this much rounding slack in the squared length.
 inline constexpr float kMaxNormalLengthSquared = 1.0001f;
 
