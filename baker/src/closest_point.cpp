@@ -5,8 +5,10 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace dng {
 namespace baker {
@@ -35,11 +37,38 @@ Vec3f closestOnTriangle(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// The soup behind a scene, and which of its triangles each Embree primitive is.
-struct SceneTriangles {
-  const TriangleSoup* soup;
-  const std::vector<std::uint32_t>* triangle_of_primitive;
+// What a point query reads of one Embree primitive, packed in primitive order: the soup's triangle and
+// its corners as the soup has them (the closest point is computed from the same numbers), and two
+// cheap lower bounds on the distance to it. Most candidates a walk reaches lie farther than the radius,
+// and the bounds send them away without the exact test: a ball around corner a that holds the
+// triangle, and the triangle's plane.
+struct Primitive {
+  Vec3f a, b, c;
+  Vec3f normal;       // unit
+  float extent;       // the farthest corner from a
+  std::uint32_t triangle;
 };
+
+Primitive makePrimitive(const TriangleSoup& soup, std::uint32_t t) {
+  const auto& tri = soup.triangles[t];
+  const Vec3f a = soup.vertices[tri[0]], b = soup.vertices[tri[1]], c = soup.vertices[tri[2]];
+  return {a, b, c, normalizeOrZero(cross(b - a, c - a)), std::max(length(b - a), length(c - a)), t};
+}
+
+float largestMagnitude(Vec3f v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+// Whether the triangle surely lies at least `radius` from p, as the exact test would compute it: the
+// bounds must clear the radius by more than the rounding of either computation, which grows with the
+// coordinates' size.
+bool surelyBeyond(const Primitive& t, Vec3f p, float radius) {
+  const Vec3f ap = p - t.a;
+  const float slack = 1e-5f * (largestMagnitude(p) + largestMagnitude(t.a) + t.extent);
+  const float beyond = radius + slack;
+  return std::fabs(dot(t.normal, ap)) > beyond || length(ap) - t.extent > beyond;
+}
+
+// The primitives of a scene, in Embree's order.
+using SceneTriangles = std::vector<Primitive>;
 
 // The triangle of the primitive a point query reached, and its point closest to the query's.
 struct Reached {
@@ -48,23 +77,23 @@ struct Reached {
   float distance;
 };
 
+// Nothing (triangle of ~0u) when the primitive surely lies beyond the query's radius.
 Reached reached(const RTCPointQueryFunctionArguments* args, const SceneTriangles& scene) {
-  const std::uint32_t t = (*scene.triangle_of_primitive)[args->primID];
-  const auto& tri = scene.soup->triangles[t];
+  const Primitive& t = scene[args->primID];
   const Vec3f p{args->query->x, args->query->y, args->query->z};
-  const Vec3f q =
-      closestOnTriangle(p, scene.soup->vertices[tri[0]], scene.soup->vertices[tri[1]], scene.soup->vertices[tri[2]]);
-  return {t, q, length(p - q)};
+  if (surelyBeyond(t, p, args->query->radius)) return {~0u, p, std::numeric_limits<float>::infinity()};
+  const Vec3f q = closestOnTriangle(p, t.a, t.b, t.c);
+  return {t.triangle, q, length(p - q)};
 }
 
 struct QueryState {
-  SceneTriangles scene;
+  const SceneTriangles* scene;
   ClosestPointIndex::Hit hit;
 };
 
 bool visitTriangle(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<QueryState*>(args->userPtr);
-  const Reached r = reached(args, state->scene);
+  const Reached r = reached(args, *state->scene);
   if (!(r.distance < args->query->radius)) return false;
   args->query->radius = r.distance; // prune the rest of the walk
   state->hit = {true, r.distance, r.closest, r.triangle};
@@ -72,7 +101,7 @@ bool visitTriangle(RTCPointQueryFunctionArguments* args) {
 }
 
 struct NearState {
-  SceneTriangles scene;
+  const SceneTriangles* scene;
   void (*visit)(void* user, std::uint32_t triangle);
   void* user;
 };
@@ -80,7 +109,7 @@ struct NearState {
 // Every triangle whose bounds the walk reaches, kept when its closest point is within the radius.
 bool visitNear(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<NearState*>(args->userPtr);
-  const Reached r = reached(args, state->scene);
+  const Reached r = reached(args, *state->scene);
   if (r.distance < args->query->radius) state->visit(state->user, r.triangle);
   return false; // the radius stays: every triangle within it is wanted
 }
@@ -101,8 +130,7 @@ void pointQuery(RTCScene scene, Vec3f p, float radius, RTCPointQueryFunction vis
 struct ClosestPointIndex::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  const TriangleSoup* soup = nullptr;
-  std::vector<std::uint32_t> triangle_of_primitive; // Embree primitive -> soup triangle
+  SceneTriangles primitives; // in Embree's order
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
@@ -114,7 +142,6 @@ ClosestPointIndex::~ClosestPointIndex() = default;
 
 BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
   impl_ = std::make_unique<Impl>();
-  impl_->soup = &soup;
   impl_->device = rtcNewDevice(nullptr);
   if (impl_->device == nullptr) return BakeStatus::failure(BakeError::kInternal, "Embree could not create a device");
   impl_->scene = rtcNewScene(impl_->device);
@@ -123,21 +150,21 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
     const auto& tri = soup.triangles[t];
     const Vec3f a = soup.vertices[tri[0]], b = soup.vertices[tri[1]], c = soup.vertices[tri[2]];
     if (length(cross(b - a, c - a)) > 0.0f && std::isfinite(dot(a + b + c, a + b + c)))
-      impl_->triangle_of_primitive.push_back(t);
+      impl_->primitives.push_back(makePrimitive(soup, t));
   }
   // Embree reads vertices with 16-byte loads: its own buffers carry the padding it needs.
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                3 * sizeof(float), soup.vertices.size()));
   auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
                                                                       RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
-                                                                      impl_->triangle_of_primitive.size()));
+                                                                      impl_->primitives.size()));
   if (vertices == nullptr || indices == nullptr) {
     rtcReleaseGeometry(geometry);
     return BakeStatus::failure(BakeError::kInternal, "Embree could not allocate the mesh buffers");
   }
   std::memcpy(vertices, soup.vertices.data(), soup.vertices.size() * sizeof(Vec3f));
-  for (std::size_t i = 0; i < impl_->triangle_of_primitive.size(); ++i)
-    std::memcpy(indices + 3 * i, soup.triangles[impl_->triangle_of_primitive[i]].data(), 3 * sizeof(std::uint32_t));
+  for (std::size_t i = 0; i < impl_->primitives.size(); ++i)
+    std::memcpy(indices + 3 * i, soup.triangles[impl_->primitives[i].triangle].data(), 3 * sizeof(std::uint32_t));
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(impl_->scene, geometry);
   rtcReleaseGeometry(geometry);
@@ -148,14 +175,14 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
 }
 
 ClosestPointIndex::Hit ClosestPointIndex::query(Vec3f p, float radius) const {
-  QueryState state{{impl_->soup, &impl_->triangle_of_primitive}, {}};
+  QueryState state{&impl_->primitives, {}};
   pointQuery(impl_->scene, p, radius, visitTriangle, &state);
   return state.hit;
 }
 
 void ClosestPointIndex::forEachNear(Vec3f p, float radius, void (*visit)(void* user, std::uint32_t triangle),
                                     void* user) const {
-  NearState state{{impl_->soup, &impl_->triangle_of_primitive}, visit, user};
+  NearState state{&impl_->primitives, visit, user};
   pointQuery(impl_->scene, p, radius, visitNear, &state);
 }
 
