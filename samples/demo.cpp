@@ -15,13 +15,13 @@
 // and fails when the triangles say any particle is inside.
 // Units: the mesh's own; gravity is scaled to its height.
 #include "sample_io.h"
+#include "sample_particles.h"
 
 #include "dng/file.h"
 #include "dng/forces.h"
 #include "dng/particles.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -34,28 +34,8 @@ using dng::Vec3f;
 constexpr float kDt = 1.0f / 60.0f;
 constexpr int kSteps = 240, kEmitSteps = 120; // rain for two seconds, watch for four
 
-// Particles as structure-of-arrays, the layout stepParticles reads fastest.
-struct Particles {
-  std::vector<float> px, py, pz, vx, vy, vz;
-  std::vector<std::uint8_t> contact; // 1 when a body acted on the particle this step
-
-  void add(Vec3f p, Vec3f v) {
-    px.push_back(p.x), py.push_back(p.y), pz.push_back(p.z);
-    vx.push_back(v.x), vy.push_back(v.y), vz.push_back(v.z);
-    contact.push_back(0);
-  }
-  Vec3f position(std::size_t n) const { return {px[n], py[n], pz[n]}; }
-  dng::ParticleSpan span() {
-    dng::ParticleSpan s;
-    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
-    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
-    s.count = px.size();
-    s.out_contact = contact.data();
-    return s;
-  }
-};
-
-float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+using dng::samples::Particles;
+using dng::samples::uniform;
 
 // A raindrop: in a thin slab near the top of the grid (up axis `up`), away from its sides, at rest. The
 // bunny's ears reach into the slab, and an emitter should not start particles inside what they collide
@@ -130,20 +110,13 @@ int main(int argc, char** argv) {
   Particles particles;
   dng::samples::Trails trails(command_line.pictures ? folder + "/demo" : "", g.origin, g.origin + size, bodies,
                               {1.0f, 0.55f, 0.15f}, up);
-  double step_seconds = 0.0;
-  std::uint64_t particle_steps = 0; // the live particles, summed over the steps (emitters add as they go)
-  std::uint64_t contacts = 0;
+  dng::samples::StepTally tally;
   for (int step = 0; step < kSteps; ++step) {
     for (int i = 0; step < kEmitSteps && i < per_step; ++i)
       particles.add(raindrop(field, up, rng), {0, 0, 0});
     const dng::ParticleSpan span = particles.span();
     dng::samples::require(dng::applyGravity(span, gravity, kDt, &diag), diag);
-    const auto start = std::chrono::steady_clock::now();
-    dng::samples::require(dng::stepParticles(span, kDt, bodies.data(), bodies.size(), &diag), diag);
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    particle_steps += span.count;
-    for (std::uint8_t c : particles.contact)
-      contacts += c;
+    tally.step(span, kDt, bodies.data(), bodies.size());
     trails.record(step, particles.px, particles.py, particles.pz);
   }
   const bool pictures_written = trails.write();
@@ -157,8 +130,8 @@ int main(int argc, char** argv) {
   }
   std::printf("{\"sample\":\"demo\",\"particles\":%zu,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"field_below_zero\":%zu}\n",
-              count, kSteps, step_seconds, step_seconds > 0 ? double(particle_steps) / step_seconds : 0.0,
-              (unsigned long long)contacts, below_zero);
+              count, kSteps, tally.seconds, tally.particleStepsPerSecond(), (unsigned long long)tally.contacts,
+              below_zero);
   if (command_line.positional.size() > 3 && !writePositions(command_line.positional[3].c_str(), particles)) {
     std::fprintf(stderr, "%s: cannot write %s\n", argv[0], command_line.positional[3].c_str());
     return 2;

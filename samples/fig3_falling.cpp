@@ -10,14 +10,14 @@
 // JSON lines: the run's statistics, and what the figure is about (how high particles bounce after
 // their first contact; how many end at rest on the table). Exits 1 if a particle ends inside the box.
 // Units: metres and seconds, 60 steps per second.
+#include "analytic_field.h"
 #include "sample_io.h"
+#include "sample_particles.h"
 
 #include "dng/forces.h"
-#include "dng/format/writer.h"
 #include "dng/particles.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -33,69 +33,15 @@ constexpr int kSteps = 180;
 const Vec3f kTableCentre{0, 0, -1}, kTableHalf{2, 2, 1}; // top face at z = 0, 4 m square
 
 // Exact signed distance to the table (negative inside) and the outward normal at the nearest point.
-float tableDistance(Vec3f p, Vec3f* normal) {
-  const Vec3f r = p - kTableCentre;
-  const Vec3f q{std::fabs(r.x) - kTableHalf.x, std::fabs(r.y) - kTableHalf.y, std::fabs(r.z) - kTableHalf.z};
-  const Vec3f sign{r.x < 0 ? -1.0f : 1.0f, r.y < 0 ? -1.0f : 1.0f, r.z < 0 ? -1.0f : 1.0f};
-  const Vec3f outside{std::max(q.x, 0.0f) * sign.x, std::max(q.y, 0.0f) * sign.y, std::max(q.z, 0.0f) * sign.z};
-  const float inner = std::max(q.x, std::max(q.y, q.z));
-  if (inner > 0.0f) {
-    *normal = dng::normalizeOrZero(outside);
-    return dng::length(outside);
-  }
-  *normal = {}; // inside: the nearest face is the axis with the largest q
-  if (q.x >= q.y && q.x >= q.z)
-    normal->x = sign.x;
-  else if (q.y >= q.z)
-    normal->y = sign.y;
-  else
-    normal->z = sign.z;
-  return inner;
-}
+float tableDistance(Vec3f p, Vec3f* normal) { return dng::samples::boxDistance(p, kTableCentre, kTableHalf, normal); }
 
-// The table's .dng file, in memory: the exact distance and normal at every voxel centre of a 0.1 m
-// grid with a 4-voxel band, bricked (paper §3.2) as dngbake would write it from a mesh.
+// The table's .dng file, in memory: a 0.1 m grid with a 4-voxel band.
 std::vector<std::uint8_t> encodeTable() {
-  const Vec3f lo{-3, -3, -2.6f}, hi{3, 3, 1.0f};
-  dng::format::GridGeometry grid;
-  grid.origin = lo;
-  grid.voxel_size = 0.1f;
-  grid.dims[0] = std::uint32_t(std::ceil((hi.x - lo.x) / grid.voxel_size));
-  grid.dims[1] = std::uint32_t(std::ceil((hi.y - lo.y) / grid.voxel_size));
-  grid.dims[2] = std::uint32_t(std::ceil((hi.z - lo.z) / grid.voxel_size));
-  grid.band = 4 * grid.voxel_size;
-  dng::format::DenseField field;
-  field.reset(grid);
-  for (std::uint32_t k = 0; k < grid.dims[2]; ++k)
-    for (std::uint32_t j = 0; j < grid.dims[1]; ++j)
-      for (std::uint32_t i = 0; i < grid.dims[0]; ++i) {
-        const std::size_t v = grid.index(i, j, k);
-        field.distance[v] = tableDistance(grid.voxelCentre(i, j, k), &field.normal[v]);
-      }
-  return dng::format::encodeBricked(field, {}, "{\"source\":\"analytic\"}").bytes;
+  return dng::samples::encodeAnalytic({-3, -3, -2.6f}, {3, 3, 1.0f}, 0.1f, 4, tableDistance);
 }
 
-// Particles as structure-of-arrays, the layout stepParticles reads fastest.
-struct Particles {
-  std::vector<float> px, py, pz, vx, vy, vz;
-  std::vector<std::uint8_t> contact; // 1 when a body acted on the particle this step
-
-  void add(Vec3f p, Vec3f v) {
-    px.push_back(p.x), py.push_back(p.y), pz.push_back(p.z);
-    vx.push_back(v.x), vy.push_back(v.y), vz.push_back(v.z);
-    contact.push_back(0);
-  }
-  dng::ParticleSpan span() {
-    dng::ParticleSpan s;
-    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
-    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
-    s.count = px.size();
-    s.out_contact = contact.data();
-    return s;
-  }
-};
-
-float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+using dng::samples::Particles;
+using dng::samples::uniform;
 
 // One variant of the figure: drops the particles on the table, prints its two JSON lines and returns
 // its exit code (dng::samples::exitCode: 1 when a particle ended inside the table).
@@ -126,18 +72,12 @@ int run(const char* name, float restitution, float drag, const dng::View& field,
                                               : dng::samples::Colour{0.1f, 0.5f, 1});
   // Rebound: the highest point after the first contact (-1 before it); the table's top is z = 0.
   std::vector<float> rebound(std::size_t(count), -1.0f);
-  double step_seconds = 0.0;
-  std::uint64_t particle_steps = 0; // the live particles, summed over the steps (emitters add as they go)
-  std::uint64_t contacts = 0;
+  dng::samples::StepTally tally;
   for (int step = 0; step < kSteps; ++step) {
     const dng::ParticleSpan span = particles.span();
     dng::samples::require(dng::applyGravity(span, {0.0f, 0.0f, -9.81f}, kDt, &diag), diag);
-    const auto start = std::chrono::steady_clock::now();
-    dng::samples::require(dng::stepParticles(span, kDt, bodies.data(), bodies.size(), &diag), diag);
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    particle_steps += span.count;
+    tally.step(span, kDt, bodies.data(), bodies.size());
     for (std::size_t n = 0; n < particles.px.size(); ++n) {
-      contacts += particles.contact[n];
       if (particles.contact[n])
         rebound[n] = std::max(rebound[n], 0.0f);
       else if (rebound[n] >= 0.0f)
@@ -160,8 +100,8 @@ int run(const char* name, float restitution, float drag, const dng::View& field,
   }
   std::printf("{\"sample\":\"%s\",\"particles\":%d,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
-              name, count, kSteps, step_seconds, step_seconds > 0 ? double(particle_steps) / step_seconds : 0.0,
-              (unsigned long long)contacts, inside);
+              name, count, kSteps, tally.seconds, tally.particleStepsPerSecond(), (unsigned long long)tally.contacts,
+              inside);
   const float mean_rebound = touched ? float(rebound_sum / double(touched)) : 0.0f;
   const float fraction_resting = float(resting) / float(count);
   std::printf("{\"sample\":\"%s\",\"mean_rebound_height\":%.3f,\"fraction_resting_on_top\":%.3f}\n", name,

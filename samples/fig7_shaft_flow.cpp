@@ -11,14 +11,14 @@
 // statistics, and what the figure is about: of the particles aimed at the shaft, the fraction that got
 // past it, and how far from the stream's axis they were then. Exits 1 if a particle ends inside the
 // shaft. Units: metres and seconds, 60 steps per second.
+#include "analytic_field.h"
 #include "sample_io.h"
+#include "sample_particles.h"
 
 #include "dng/forces.h"
-#include "dng/format/writer.h"
 #include "dng/particles.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -49,49 +49,13 @@ float shaftDistance(Vec3f p, Vec3f* normal) {
   return std::max(side, cap);
 }
 
-// The shaft's .dng file, in memory: the exact distance and normal at every voxel centre of a 4 cm grid
-// with a 5-voxel band, bricked (paper §3.2) as dngbake would write it from a mesh.
+// The shaft's .dng file, in memory: a 4 cm grid with a 5-voxel band.
 std::vector<std::uint8_t> encodeShaft() {
-  const Vec3f lo{-0.8f, -0.8f, -1.4f}, hi{0.8f, 0.8f, 1.4f};
-  dng::format::GridGeometry grid;
-  grid.origin = lo;
-  grid.voxel_size = 0.04f;
-  grid.dims[0] = std::uint32_t(std::ceil((hi.x - lo.x) / grid.voxel_size));
-  grid.dims[1] = std::uint32_t(std::ceil((hi.y - lo.y) / grid.voxel_size));
-  grid.dims[2] = std::uint32_t(std::ceil((hi.z - lo.z) / grid.voxel_size));
-  grid.band = 5 * grid.voxel_size;
-  dng::format::DenseField field;
-  field.reset(grid);
-  for (std::uint32_t k = 0; k < grid.dims[2]; ++k)
-    for (std::uint32_t j = 0; j < grid.dims[1]; ++j)
-      for (std::uint32_t i = 0; i < grid.dims[0]; ++i) {
-        const std::size_t v = grid.index(i, j, k);
-        field.distance[v] = shaftDistance(grid.voxelCentre(i, j, k), &field.normal[v]);
-      }
-  return dng::format::encodeBricked(field, {}, "{\"source\":\"analytic\"}").bytes;
+  return dng::samples::encodeAnalytic({-0.8f, -0.8f, -1.4f}, {0.8f, 0.8f, 1.4f}, 0.04f, 5, shaftDistance);
 }
 
-// Particles as structure-of-arrays, the layout stepParticles reads fastest.
-struct Particles {
-  std::vector<float> px, py, pz, vx, vy, vz;
-  std::vector<std::uint8_t> contact; // 1 when a body acted on the particle this step
-
-  void add(Vec3f p, Vec3f v) {
-    px.push_back(p.x), py.push_back(p.y), pz.push_back(p.z);
-    vx.push_back(v.x), vy.push_back(v.y), vz.push_back(v.z);
-    contact.push_back(0);
-  }
-  dng::ParticleSpan span() {
-    dng::ParticleSpan s;
-    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
-    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
-    s.count = px.size();
-    s.out_contact = contact.data();
-    return s;
-  }
-};
-
-float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+using dng::samples::Particles;
+using dng::samples::uniform;
 
 // The stream: fired along -x from a disk of radius 0.5 m centred 2 m to the right of the shaft.
 const Vec3f kFrom{2.0f, 0, 0}, kDirection{-1, 0, 0};
@@ -128,9 +92,7 @@ int run(const Variant& variant, const dng::View& field, const dng::samples::Comm
   std::vector<float> start_offsets; // each particle's distance from the stream's axis when emitted
   dng::samples::Trails trails(command_line.pictures ? folder + "/" + variant.name : "", {-2.2f, -1.6f, -1.2f},
                               {2.2f, 1.6f, 1.2f}, bodies, {1.0f, 0.5f, 0.15f});
-  double step_seconds = 0.0;
-  std::uint64_t particle_steps = 0; // the live particles, summed over the steps (emitters add as they go)
-  std::uint64_t contacts = 0;
+  dng::samples::StepTally tally;
   for (int step = 0; step < kSteps; ++step) {
     for (int i = 0; step < kEmitSteps && i < per_step; ++i) {
       const float r = kDiskRadius * std::sqrt(uniform(rng, 0, 1)), a = uniform(rng, 0, 2 * kPi);
@@ -141,12 +103,7 @@ int run(const Variant& variant, const dng::View& field, const dng::samples::Comm
     // No gravity: the stream is carried by the air moving with it (as smoke in a draught), so particles
     // slowed by the shaft pick up speed again downstream.
     dng::samples::require(dng::applyAirDrag(span, kDirection * kSpeed, 2.0f, kDt, &diag), diag);
-    const auto start = std::chrono::steady_clock::now();
-    dng::samples::require(dng::stepParticles(span, kDt, bodies.data(), bodies.size(), &diag), diag);
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    particle_steps += span.count;
-    for (std::uint8_t c : particles.contact)
-      contacts += c;
+    tally.step(span, kDt, bodies.data(), bodies.size());
     trails.record(step, particles.px, particles.py, particles.pz);
   }
   const bool pictures_written = trails.write();
@@ -171,8 +128,8 @@ int run(const Variant& variant, const dng::View& field, const dng::samples::Comm
   }
   std::printf("{\"sample\":\"%s\",\"particles\":%zu,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
-              variant.name, count, kSteps, step_seconds, step_seconds > 0 ? double(particle_steps) / step_seconds : 0.0,
-              (unsigned long long)contacts, inside);
+              variant.name, count, kSteps, tally.seconds, tally.particleStepsPerSecond(),
+              (unsigned long long)tally.contacts, inside);
   const float fraction_downstream = aimed ? float(past) / float(aimed) : 0.0f;
   const float mean_offset = past ? float(offset_sum / double(past)) : 0.0f;
   std::printf("{\"sample\":\"%s\",\"fraction_downstream\":%.3f,\"mean_downstream_offset\":%.3f}\n", variant.name,

@@ -15,11 +15,11 @@
 // 1.3). A field whose planes all face one way lets them through (tests/samples_test.cpp). Units: the
 // sheet's own; 60 steps per second.
 #include "sample_io.h"
+#include "sample_particles.h"
 
 #include "dng/file.h"
 #include "dng/particles.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -33,28 +33,8 @@ using dng::Vec3f;
 constexpr float kDt = 1.0f / 60.0f;
 constexpr int kSteps = 60;
 
-// Particles as structure-of-arrays, the layout stepParticles reads fastest.
-struct Particles {
-  std::vector<float> px, py, pz, vx, vy, vz;
-  std::vector<std::uint8_t> contact; // 1 when a body acted on the particle this step
-
-  void add(Vec3f p, Vec3f v) {
-    px.push_back(p.x), py.push_back(p.y), pz.push_back(p.z);
-    vx.push_back(v.x), vy.push_back(v.y), vz.push_back(v.z);
-    contact.push_back(0);
-  }
-  Vec3f position(std::size_t n) const { return {px[n], py[n], pz[n]}; }
-  dng::ParticleSpan span() {
-    dng::ParticleSpan s;
-    s.position_x = px.data(), s.position_y = py.data(), s.position_z = pz.data();
-    s.velocity_x = vx.data(), s.velocity_y = vy.data(), s.velocity_z = vz.data();
-    s.count = px.size();
-    s.out_contact = contact.data();
-    return s;
-  }
-};
-
-float uniform(std::mt19937& rng, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+using dng::samples::Particles;
+using dng::samples::uniform;
 
 // Where a particle starts, and the surface plane it faces there: its closest point on the sheet and the
 // normal towards the particle. It has crossed if it gets behind that plane near where it started.
@@ -140,15 +120,11 @@ int main(int argc, char** argv) {
   dng::samples::Trails trails(command_line.pictures ? folder + "/thin_sheet" : "", g.origin, g.origin + size, bodies,
                               {0.3f, 0.8f, 0.3f});
   std::vector<std::uint8_t> crossed(std::size_t(count), 0);
-  double step_seconds = 0.0;
-  std::uint64_t contacts = 0;
+  dng::samples::StepTally tally;
   for (int step = 0; step < kSteps; ++step) {
-    const auto start = std::chrono::steady_clock::now();
-    dng::samples::require(dng::stepParticles(particles.span(), kDt, bodies.data(), bodies.size(), &diag), diag);
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    tally.step(particles.span(), kDt, bodies.data(), bodies.size());
     // Checked every step near the start: a particle that got through keeps flying away.
     for (std::size_t n = 0; n < crossed.size(); ++n) {
-      contacts += particles.contact[n];
       const Vec3f from_plane = particles.position(n) - starts[n].closest;
       if (dng::length(from_plane) < 2.0f * g.band && dng::dot(from_plane, starts[n].normal) < 0.0f) crossed[n] = 1;
     }
@@ -166,8 +142,7 @@ int main(int argc, char** argv) {
   }
   std::printf("{\"sample\":\"thin_sheet\",\"particles\":%d,\"steps\":%d,\"step_seconds\":%.4f,"
               "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
-              count, kSteps, step_seconds, step_seconds > 0 ? double(count) * kSteps / step_seconds : 0.0,
-              (unsigned long long)contacts, inside);
+              count, kSteps, tally.seconds, tally.particleStepsPerSecond(), (unsigned long long)tally.contacts, inside);
   std::printf("{\"sample\":\"thin_sheet\",\"crossed\":%zu}\n", crossed_count);
   return dng::samples::exitCode(crossed_count == 0 ? 0 : 1, pictures_written);
 }

@@ -44,8 +44,8 @@ Vec3f closestOnTriangle(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
 // triangle, and the triangle's plane.
 struct Primitive {
   Vec3f a, b, c;
-  Vec3f normal;       // unit
-  float extent;       // the farthest corner from a
+  Vec3f normal; // unit
+  float extent; // the farthest corner from a
   std::uint32_t triangle;
 };
 
@@ -155,9 +155,8 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
   // Embree reads vertices with 16-byte loads: its own buffers carry the padding it needs.
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                3 * sizeof(float), soup.vertices.size()));
-  auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                      RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
-                                                                      impl_->primitives.size()));
+  auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), impl_->primitives.size()));
   if (vertices == nullptr || indices == nullptr) {
     rtcReleaseGeometry(geometry);
     return BakeStatus::failure(BakeError::kInternal, "Embree could not allocate the mesh buffers");
