@@ -1,10 +1,12 @@
 // The full leak table (issue #10): every mesh and normal mode against every case, 20,000 particles for
 // 120 steps each, written as markdown (docs/LEAKS.md through `bash setup.sh leaks`).
 //   leak_report MESH_DIR OUTPUT.md [PARTICLES] [STEPS]
-//   leak_report --mesh FILE [--mesh FILE ...] OUTPUT.md [PARTICLES] [STEPS]
+//   leak_report --mesh FILE [--mesh FILE ...] [--resolution N] OUTPUT.md [PARTICLES] [STEPS]
 // MESH_DIR holds bunny00.off, fandisk.off, blade.off and cheese.off. With --mesh, the same cases run on those mesh
 // files instead (OBJ, OFF, PLY or STL), each judged closed or open as checkMesh finds it, in the
-// normal-blur and exact modes, and in potential mode too when it is open. Exit code 0 when the table was
+// normal-blur and exact modes, and in potential mode too when it is open; --resolution bakes them at N
+// voxels along the longest axis instead of 64 (the code-made meshes of the standard table are sized for
+// 64, so it goes with --mesh only). Exit code 0 when the table was
 // written, 1 on bad arguments or a mesh that would not load or bake; leaks do not change it (the table
 // is the verdict).
 #include "leak_case.h"
@@ -169,7 +171,7 @@ by that test, but there the judge's ray parity and the field's sign can disagree
 const char* kMethod = R"(
 ## Method
 
-Each mesh is baked at resolution 64 with the band `dngbake --max-speed --dt 0.016` gives for 3 voxels per
+Each mesh is baked at resolution RESOLUTION with the band `dngbake --max-speed --dt 0.016` gives for 3 voxels per
 step, so the design speed is `View::guaranteedReach()` x body scale / dt (3.5 voxels per step).
 Real meshes are moved so that their bounding-box centre is the origin; the code-made ones are built in
 voxels (the plate is 0.5 voxel thick, the rods 0.6, the fins 0.4, the hollow box's walls 1, the close
@@ -226,7 +228,8 @@ bool positiveCount(const std::string& text, long* out) {
 
 int usage() {
   std::fprintf(stderr, "usage: leak_report MESH_DIR OUTPUT.md [PARTICLES] [STEPS]\n"
-                       "       leak_report --mesh FILE [--mesh FILE ...] OUTPUT.md [PARTICLES] [STEPS]\n");
+                       "       leak_report --mesh FILE [--mesh FILE ...] [--resolution N] OUTPUT.md [PARTICLES] "
+                       "[STEPS]\n");
   return 1;
 }
 
@@ -234,13 +237,23 @@ int usage() {
 
 int main(int argc, char** argv) {
   std::vector<std::string> meshes, positional;
+  std::string resolution_text;
   for (int a = 1; a < argc; ++a) {
-    if (std::string(argv[a]) != "--mesh")
-      positional.push_back(argv[a]);
-    else if (a + 1 < argc)
+    const std::string arg = argv[a];
+    if (arg != "--mesh" && arg != "--resolution")
+      positional.push_back(arg);
+    else if (a + 1 >= argc)
+      return usage();
+    else if (arg == "--mesh")
       meshes.push_back(argv[++a]);
     else
-      return usage();
+      resolution_text = argv[++a];
+  }
+  long resolution = dng::leak::kResolution;
+  if (!resolution_text.empty() &&
+      (meshes.empty() || !positiveCount(resolution_text, &resolution) || resolution < 16 || resolution > 1024)) {
+    std::fprintf(stderr, "leak_report: --resolution goes with --mesh and must be a whole number from 16 to 1024\n");
+    return 1;
   }
   const std::size_t first = meshes.empty() ? 1 : 0; // the output's place among the positional arguments
   if (positional.size() < first + 1 || positional.size() > first + 3) return usage();
@@ -262,7 +275,7 @@ int main(int argc, char** argv) {
   std::vector<Totals> totals;
   for (const Entry& entry : entries) {
     const LeakMesh& mesh = entry.mesh;
-    const auto subject = bakeSubject(mesh, entry.mode, folder.path().string(), &error);
+    const auto subject = bakeSubject(mesh, entry.mode, folder.path().string(), &error, int(resolution));
     if (!subject) {
       std::fprintf(stderr, "leak_report: %s\n", error.c_str());
       return 1;
@@ -287,7 +300,10 @@ int main(int argc, char** argv) {
     }
   }
   std::ofstream out(output);
-  out << (meshes.empty() ? kTitle : kMeshesTitle) << kMethod << "\n"
+  std::string method = kMethod;
+  const std::string placeholder = "RESOLUTION";
+  method.replace(method.find(placeholder), placeholder.size(), std::to_string(resolution));
+  out << (meshes.empty() ? kTitle : kMeshesTitle) << method << "\n"
       << thousands(static_cast<unsigned long long>(particles)) << " particles, " << steps
       << " steps of 0.016 s per case.\n";
   out << "\n## Summary\n\nThe goals of issue #10 are 0 in the bold columns. *Design speed*: the seven dngrid cases "

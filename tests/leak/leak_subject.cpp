@@ -8,18 +8,19 @@ namespace leak {
 
 namespace {
 
-// The voxel size placeGrid will choose at kResolution for a band of kDesignVoxelsPerStep per step: the
+// The voxel size placeGrid will choose at `resolution` for a band of kDesignVoxelsPerStep per step: the
 // band and the padding depend on the voxel size, so settle them together.
-float designVoxel(const LeakMesh& mesh, std::string* out_error) {
+float designVoxel(const LeakMesh& mesh, int resolution, std::string* out_error) {
   baker::TriangleSoup soup;
   soup.vertices = mesh.mesh.vertices;
   soup.triangles = mesh.mesh.triangles;
   const baker::MeshReport report = baker::checkMesh(soup);
   const Vec3f extent = report.bounds_max - report.bounds_min;
-  float voxel = std::max({extent.x, extent.y, extent.z}) / kMeshVoxels;
+  // A first guess: the padding takes as many voxels at any resolution.
+  float voxel = std::max({extent.x, extent.y, extent.z}) / (float(resolution) - (float(kResolution) - kMeshVoxels));
   for (int round = 0; round < 4; ++round) {
     baker::BakeOptions options;
-    options.resolution = kResolution;
+    options.resolution = std::uint32_t(resolution);
     options.dt = kDt;
     options.max_speed = kDesignVoxelsPerStep * voxel / kDt;
     format::GridGeometry grid;
@@ -38,11 +39,11 @@ float designVoxel(const LeakMesh& mesh, std::string* out_error) {
 } // namespace
 
 std::unique_ptr<Subject> bakeSubject(const LeakMesh& mesh, baker::NormalMode mode, const std::string& folder,
-                                     std::string* out_error) {
+                                     std::string* out_error, int resolution) {
   auto subject = std::make_unique<Subject>();
   subject->mesh = mesh;
   subject->mode = mode;
-  const float voxel = designVoxel(mesh, out_error);
+  const float voxel = designVoxel(mesh, resolution, out_error);
   if (!(voxel > 0.0f)) return nullptr;
 
   std::string stem = mesh.name + "_" + baker::normalModeName(mode);
@@ -51,7 +52,7 @@ std::unique_ptr<Subject> bakeSubject(const LeakMesh& mesh, baker::NormalMode mod
   testing::writeObj(mesh.mesh, obj);
   baker::BakeOptions options;
   options.mode = mode;
-  options.resolution = kResolution;
+  options.resolution = std::uint32_t(resolution);
   options.dt = kDt;
   options.max_speed = kDesignVoxelsPerStep * voxel / kDt;
   baker::BakeReport report;

@@ -28,10 +28,11 @@ struct Subject {
   std::string label() const { return mesh.name + ", " + baker::normalModeName(mode); }
 };
 
-/// Bakes `mesh` at kResolution with a band for kDesignVoxelsPerStep (the mesh goes through an OBJ in
-/// `folder`, which must exist), maps the result and builds the reference. Null with *out_error on failure.
+/// Bakes `mesh` at `resolution` (voxels along its longest axis; the code-made meshes are sized for
+/// kResolution) with a band for kDesignVoxelsPerStep (the mesh goes through an OBJ in `folder`, which
+/// must exist), maps the result and builds the reference. Null with *out_error on failure.
 std::unique_ptr<Subject> bakeSubject(const LeakMesh& mesh, baker::NormalMode mode, const std::string& folder,
-                                     std::string* out_error);
+                                     std::string* out_error, int resolution = kResolution);
 
 } // namespace leak
 } // namespace dng
