@@ -467,9 +467,16 @@ TEST_F(BakeTest, OpenBoxAndTriangleSoupGetSensibleSigns) {
     SCOPED_TRACE(shape.name);
     BakeReport report;
     const File file = bakeMesh(shape.mesh, shape.name, exactOptions(), &report);
-    if (shape.name == std::string("open_box")) {
+    const bool open_box = shape.name == std::string("open_box");
+    if (open_box) {
       EXPECT_FALSE(report.mesh.closed());
     }
+    // The open box has a hole and encloses space; the soup's triangles only repeat their corners.
+    EXPECT_EQ(report.mesh.hole_edges, open_box ? 4u : 0u);
+    const auto holes = std::count_if(report.warnings.begin(), report.warnings.end(), [](const std::string& w) {
+      return w.find("has holes (4 open edges) yet encloses space") != std::string::npos;
+    });
+    EXPECT_EQ(holes, open_box ? 1 : 0);
     const float h = file.view().grid().voxel_size;
     EXPECT_LT(file.view().sample({0, 0, -1.0f + 1.5f * h}).distance, 0.0f); // inside, near the bottom
     EXPECT_GT(file.view().sample({0, 0, -1.0f - 1.5f * h}).distance, 0.0f); // outside, below
@@ -483,7 +490,12 @@ TEST_F(BakeTest, OpenBoxAndTriangleSoupGetSensibleSigns) {
 TEST_F(BakeTest, ThinSheetInPotentialModeRepelsFromBothSides) {
   BakeOptions options = exactOptions();
   options.mode = NormalMode::kPotential;
-  const File file = bakeMesh(testing::sheetMesh({0, 0, 0}, 1.0f), "sheet", options);
+  BakeReport report;
+  const File file = bakeMesh(testing::sheetMesh({0, 0, 0}, 1.0f), "sheet", options, &report);
+  // A sheet's edges are holes, but it encloses nothing: no warning about particles getting in.
+  EXPECT_GT(report.mesh.hole_edges, 0u);
+  for (const std::string& w : report.warnings)
+    EXPECT_EQ(w.find("has holes"), std::string::npos) << w;
   const float h = file.view().grid().voxel_size;
   int checked = 0;
   for (float x = -0.6f; x <= 0.6f; x += 0.2f) {

@@ -365,8 +365,28 @@ TEST_F(MeshTest, OpenBoxReportsItsBoundaryAndStillBakes) {
   const MeshReport r = checkMesh(load(cubeObj("open.obj", 1)));
   EXPECT_EQ(r.triangles, 10u);
   EXPECT_EQ(r.boundary_edges, 4u);
+  EXPECT_EQ(r.hole_edges, 4u);
   EXPECT_FALSE(r.closed());
   EXPECT_TRUE(requireBakeable(r).ok());
+}
+
+// Files repeat a vertex where its normal or texture coordinates change: each face of this cube has
+// its own four corners. Open by its indices, but without a hole.
+TEST_F(MeshTest, SeamsOfRepeatedVerticesAreNoHoles) {
+  std::string text;
+  for (int f = 0; f < 6; ++f) {
+    for (int i : kCubeQuads[f]) {
+      const auto& v = kCubeVertices[std::size_t(i)];
+      text += "v " + std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]) + "\n";
+    }
+    text += "f " + std::to_string(4 * f + 1) + " " + std::to_string(4 * f + 2) + " " + std::to_string(4 * f + 3) + " " +
+            std::to_string(4 * f + 4) + "\n";
+  }
+  const MeshReport r = checkMesh(load(write("seams.obj", text)));
+  EXPECT_EQ(r.vertices, 24u);
+  EXPECT_EQ(r.boundary_edges, 24u);
+  EXPECT_FALSE(r.closed());
+  EXPECT_EQ(r.hole_edges, 0u);
 }
 
 // OpenMesh's own mesh kernel would refuse the third triangle on the shared edge; the soup keeps it.

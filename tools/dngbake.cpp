@@ -140,6 +140,7 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                {"triangles", m.triangles},
                {"components", m.components},
                {"boundary_edges", m.boundary_edges},
+               {"hole_edges", m.hole_edges},
                {"non_manifold_edges", m.non_manifold_edges},
                {"degenerate_triangles", m.degenerate_triangles},
                {"non_finite_vertices", m.non_finite_vertices},

@@ -115,6 +115,15 @@ BakeStatus loadInputs(const BakeInputs& inputs, TriangleSoup* out_soup, BakeRepo
   return BakeStatus::success();
 }
 
+// A mesh with holes that still encloses space deeper than the band: the winding number calls that space
+// inside, and a particle that gets there through a hole is not walked (RUNTIME.md, "Limits").
+std::string holesWarning(const MeshReport& mesh) {
+  return "the mesh has holes (" + std::to_string(mesh.hole_edges) +
+         " open edges) yet encloses space, which the field takes for inside: particles that get in through a "
+         "hole are not kept from passing out through the surface (docs/RUNTIME.md, \"Limits\"); fill the holes "
+         "if it is meant as a solid";
+}
+
 class StageTimer {
 public:
   explicit StageTimer(BakeReport* report) : report_(report), start_(Clock::now()) {}
@@ -177,6 +186,7 @@ BakeStatus bakeStages(const BakeInputs& inputs, const BakeOutputs& outputs, cons
   status = computeDistanceField(soup, use_pseudonormals ? &pseudonormals : nullptr, progress, user, &band);
   if (!status.ok()) return status;
   report->band_blocks = band.blockCount();
+  if (report->mesh.hole_edges > 0 && band.hasFarInside()) report->warnings.push_back(holesWarning(report->mesh));
   timer.done("distance");
   if (!(status = applyNormalMode(soup, options, progress, user, &band)).ok()) return status;
   timer.done("normals");

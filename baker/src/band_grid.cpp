@@ -93,6 +93,13 @@ std::uint64_t BandGrid::bandVoxels() const { return impl_->distance->tree().acti
 
 std::uint64_t BandGrid::blockCount() const { return impl_->distance->tree().leafCount(); }
 
+bool BandGrid::hasFarInside() const {
+  // After the flood fill every value off the band is +band or -band: any negative one is far inside.
+  for (auto value = impl_->distance->tree().cbeginValueOff(); value; ++value)
+    if (*value < 0.0f) return true;
+  return false;
+}
+
 namespace {
 
 // Copies the box's voxels out of `tree` leaf by leaf from the raw buffers (an accessor walks the tree

@@ -74,6 +74,8 @@ public:
   std::uint64_t bandVoxels() const;
   /// Blocks allocated now.
   std::uint64_t blockCount() const;
+  /// Whether any voxel lies inside beyond the band (after finishBand): space the surface encloses.
+  bool hasFarInside() const;
 
   void read(const format::VoxelBox& box, float* distance, Vec3f* normal) const override;
 

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
+#include <unordered_map>
 #include <utility>
 
 namespace dng {
@@ -21,9 +23,42 @@ bool degenerate(const TriangleSoup& soup, const std::array<std::uint32_t, 3>& t)
   return !(length(cross(b - a, c - a)) > 1e-7f * longest);
 }
 
-// Counts edges used once (boundary), three or more times (non-manifold), and twice in the same
-// direction (the two faces disagree about which side is out).
-void countEdges(const TriangleSoup& soup, MeshReport* io) {
+// Each vertex's first twin: the lowest index with exactly the same coordinates. Files often repeat a
+// vertex where its normals or texture coordinates change (a seam); such a mesh is open by its indices
+// but has no hole.
+std::vector<std::uint32_t> firstTwins(const TriangleSoup& soup) {
+  struct Key {
+    std::uint32_t x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      return (std::size_t(k.x) * 73856093u) ^ (std::size_t(k.y) * 19349663u) ^ (std::size_t(k.z) * 83492791u);
+    }
+  };
+  const auto bits = [](float f) {
+    std::uint32_t u;
+    std::memcpy(&u, &f, sizeof u);
+    return f == 0.0f ? 0u : u; // -0 and +0 are one position
+  };
+  std::unordered_map<Key, std::uint32_t, Hash> first;
+  first.reserve(soup.vertices.size());
+  std::vector<std::uint32_t> twin(soup.vertices.size());
+  for (std::uint32_t v = 0; v < soup.vertices.size(); ++v) {
+    const Vec3f p = soup.vertices[v];
+    twin[v] = first.emplace(Key{bits(p.x), bits(p.y), bits(p.z)}, v).first->second;
+  }
+  return twin;
+}
+
+struct EdgeCounts {
+  std::uint64_t once = 0, three_or_more = 0, same_direction = 0;
+};
+
+// Counts edges, with vertices named by `name` (a vertex's index, or its first twin's), used once
+// (boundary), three or more times (non-manifold), and twice in the same direction (the two faces
+// disagree about which side is out).
+EdgeCounts countEdges(const TriangleSoup& soup, const std::vector<std::uint32_t>& name) {
   struct Edge {
     std::uint32_t lo, hi;
     bool forward; // runs lo -> hi in its triangle
@@ -33,20 +68,22 @@ void countEdges(const TriangleSoup& soup, MeshReport* io) {
   edges.reserve(soup.triangles.size() * 3);
   for (const auto& t : soup.triangles) {
     for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      const std::uint32_t a = name[t[e]], b = name[t[(e + 1) % 3]];
       if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
     }
   }
   std::sort(edges.begin(), edges.end());
+  EdgeCounts counts;
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi)
       ++j;
-    io->boundary_edges += j - i == 1 ? 1 : 0;
-    io->non_manifold_edges += j - i >= 3 ? 1 : 0;
-    io->misoriented_edges += j - i == 2 && edges[i].forward == edges[i + 1].forward ? 1 : 0;
+    counts.once += j - i == 1 ? 1 : 0;
+    counts.three_or_more += j - i >= 3 ? 1 : 0;
+    counts.same_direction += j - i == 2 && edges[i].forward == edges[i + 1].forward ? 1 : 0;
     i = j;
   }
+  return counts;
 }
 
 // Divergence theorem: the tetrahedra each triangle forms with the origin, summed.
@@ -101,7 +138,13 @@ MeshReport checkMesh(const TriangleSoup& soup) {
   }
   for (const auto& t : soup.triangles)
     r.degenerate_triangles += degenerate(soup, t) ? 1 : 0;
-  countEdges(soup, &r);
+  std::vector<std::uint32_t> own(soup.vertices.size());
+  std::iota(own.begin(), own.end(), 0u);
+  const EdgeCounts by_index = countEdges(soup, own);
+  r.boundary_edges = by_index.once;
+  r.non_manifold_edges = by_index.three_or_more;
+  r.misoriented_edges = by_index.same_direction;
+  r.hole_edges = r.boundary_edges > 0 ? countEdges(soup, firstTwins(soup)).once : 0;
   r.components = countComponents(soup);
   if (r.non_finite_vertices == 0) r.signed_volume = signedVolume(soup);
   return r;

@@ -44,6 +44,9 @@ struct MeshReport {
   std::uint64_t non_finite_vertices = 0;
   std::uint64_t degenerate_triangles = 0; ///< repeated vertex or zero area
   std::uint64_t boundary_edges = 0;       ///< used by one triangle: the mesh is open
+  /// Boundary edges that stay so when vertices at the same position count as one: the mesh's holes
+  /// (a seam of repeated vertices, as files write where normals or texture coordinates change, is none).
+  std::uint64_t hole_edges = 0;
   std::uint64_t non_manifold_edges = 0;   ///< used by three or more triangles
   std::uint64_t components = 0;           ///< connected by shared vertices
   std::uint64_t misoriented_edges = 0;    ///< shared by two triangles that run it the same way
