@@ -15,56 +15,81 @@ namespace baker {
 
 namespace {
 
+// Doubles for the closest point on thin triangles: the Voronoi tests subtract products of nearly equal
+// size, which in floats go wrong on slivers (one a millionth as wide as it is long read 0.044 from a
+// point its edge lay 0.015 from: tests/closest_point_test). Floats do elsewhere, and cost less.
+struct Vec3d {
+  double x, y, z;
+  explicit Vec3d(Vec3f v) : x(v.x), y(v.y), z(v.z) {}
+  Vec3d(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+  Vec3d operator+(Vec3d o) const { return {x + o.x, y + o.y, z + o.z}; }
+  Vec3d operator-(Vec3d o) const { return {x - o.x, y - o.y, z - o.z}; }
+  Vec3d operator*(double s) const { return {x * s, y * s, z * s}; }
+};
+double dot(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec3f toFloat(Vec3d v) { return {float(v.x), float(v.y), float(v.z)}; }
+
 // Closest point on triangle abc to p, by Voronoi regions of the vertices, edges and face
-// (C. Ericson, Real-Time Collision Detection, 2005, §5.1.5).
-Vec3f closestOnTriangle(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
-  const Vec3f ab = b - a, ac = c - a, ap = p - a;
-  const float d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0.0f && d2 <= 0.0f) return a;
-  const Vec3f bp = p - b;
-  const float d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0.0f && d4 <= d3) return b;
-  const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + ab * (d1 / (d1 - d3));
-  const Vec3f cp = p - c;
-  const float d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0.0f && d5 <= d6) return c;
-  const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + ac * (d2 / (d2 - d6));
-  const float va = d3 * d6 - d5 * d4;
-  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const float denom = 1.0f / (va + vb + vc);
+// (C. Ericson, Real-Time Collision Detection, 2005, §5.1.5), in Vec3f or Vec3d.
+template <class V> V closestOnTriangle(V p, V a, V b, V c) {
+  using S = decltype(dot(a, b));
+  const S zero = 0;
+  const V ab = b - a, ac = c - a, ap = p - a;
+  const S d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= zero && d2 <= zero) return a;
+  const V bp = p - b;
+  const S d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= zero && d4 <= d3) return b;
+  const S vc = d1 * d4 - d3 * d2;
+  if (vc <= zero && d1 >= zero && d3 <= zero) return a + ab * (d1 / (d1 - d3));
+  const V cp = p - c;
+  const S d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= zero && d5 <= d6) return c;
+  const S vb = d5 * d2 - d1 * d6;
+  if (vb <= zero && d2 >= zero && d6 <= zero) return a + ac * (d2 / (d2 - d6));
+  const S va = d3 * d6 - d5 * d4;
+  if (va <= zero && (d4 - d3) >= zero && (d5 - d6) >= zero) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const S denom = S(1) / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// What a point query reads of one Embree primitive, packed in primitive order: the soup's triangle and
-// its corners as the soup has them (the closest point is computed from the same numbers), and two
-// cheap lower bounds on the distance to it. Most candidates a walk reaches lie farther than the radius,
-// and the bounds send them away without the exact test: a ball around corner a that holds the
-// triangle, and the triangle's plane.
+// What a point query reads of one Embree primitive, packed in primitive order: the soup's triangle, its
+// corners, and two cheap lower bounds on the distance to it. Most candidates a walk reaches lie farther
+// than the radius, and the bounds send them away without the exact test: a ball around corner a that
+// holds the triangle, and the triangle's plane.
 struct Primitive {
   Vec3f a, b, c;
-  Vec3f normal; // unit
-  float extent; // the farthest corner from a
+  Vec3f normal;       // unit, as computed in floats
+  float normal_error; // bounds the angle (radians) between `normal` and the true one: large for slivers
+  float extent;       // the farthest corner from a
   std::uint32_t triangle;
 };
 
 Primitive makePrimitive(const TriangleSoup& soup, std::uint32_t t) {
   const auto& tri = soup.triangles[t];
   const Vec3f a = soup.vertices[tri[0]], b = soup.vertices[tri[1]], c = soup.vertices[tri[2]];
-  return {a, b, c, normalizeOrZero(cross(b - a, c - a)), std::max(length(b - a), length(c - a)), t};
+  const Vec3f twice_area = cross(b - a, c - a);
+  const float extent = std::max(length(b - a), length(c - a));
+  // Each component of the cross product is off by a few float steps of |ab| |ac| <= extent^2, so its
+  // direction by that over its length; four times that covers the normalization too.
+  const float error = 16.0f * std::numeric_limits<float>::epsilon() * extent * extent / length(twice_area);
+  return {a, b, c, normalizeOrZero(twice_area), std::isfinite(error) ? error : 2.0f, extent, t};
 }
+
+// A triangle whose normal floats may get this wrong (radians) is thin enough for doubles: under about a
+// hundredth as wide as it is long.
+constexpr float kThinNormalError = 1e-4f;
 
 float largestMagnitude(Vec3f v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 
 // Whether the triangle surely lies at least `radius` from p, as the exact test would compute it: the
 // bounds must clear the radius by more than the rounding of either computation, which grows with the
-// coordinates' size.
+// coordinates' size, and the plane's by what its normal may be off over the way from a to p.
 bool surelyBeyond(const Primitive& t, Vec3f p, float radius) {
   const Vec3f ap = p - t.a;
-  const float slack = 1e-5f * (largestMagnitude(p) + largestMagnitude(t.a) + t.extent);
-  const float beyond = radius + slack;
-  return std::fabs(dot(t.normal, ap)) > beyond || length(ap) - t.extent > beyond;
+  const float from_a = length(ap);
+  const float beyond = radius + 1e-5f * (largestMagnitude(p) + largestMagnitude(t.a) + t.extent);
+  return from_a - t.extent > beyond || std::fabs(dot(t.normal, ap)) - t.normal_error * from_a > beyond;
 }
 
 // The primitives of a scene, in Embree's order.
@@ -82,8 +107,13 @@ Reached reached(const RTCPointQueryFunctionArguments* args, const SceneTriangles
   const Primitive& t = scene[args->primID];
   const Vec3f p{args->query->x, args->query->y, args->query->z};
   if (surelyBeyond(t, p, args->query->radius)) return {~0u, p, std::numeric_limits<float>::infinity()};
-  const Vec3f q = closestOnTriangle(p, t.a, t.b, t.c);
-  return {t.triangle, q, length(p - q)};
+  if (t.normal_error < kThinNormalError) {
+    const Vec3f q = closestOnTriangle(p, t.a, t.b, t.c);
+    return {t.triangle, q, length(p - q)};
+  }
+  const Vec3d q = closestOnTriangle(Vec3d(p), Vec3d(t.a), Vec3d(t.b), Vec3d(t.c));
+  const Vec3d pq = Vec3d(p) - q;
+  return {t.triangle, toFloat(q), float(std::sqrt(dot(pq, pq)))};
 }
 
 struct QueryState {

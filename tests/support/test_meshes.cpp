@@ -22,6 +22,8 @@ float segmentDistance(Vec3f p, Vec3f a, Vec3f b) {
   return length(p - (a + ab * t));
 }
 
+} // namespace
+
 // Projection onto the plane when it falls inside (barycentric signs), else the nearest edge.
 float triangleDistance(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
   const Vec3f n = normalizeOrZero(cross(b - a, c - a));
@@ -31,8 +33,6 @@ float triangleDistance(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
   if (inside && dot(n, n) > 0.0f) return std::fabs(dot(p - a, n));
   return std::min({segmentDistance(p, a, b), segmentDistance(p, b, c), segmentDistance(p, c, a)});
 }
-
-} // namespace
 
 Mesh boxMesh(Vec3f c, Vec3f h) {
   Mesh m;

@@ -34,6 +34,8 @@ Mesh withoutFace(const Mesh& box, int axis);
 
 void writeObj(const Mesh& mesh, const std::string& path);
 
+/// Distance from p to the triangle abc: its plane where p projects inside it, else the nearest edge.
+float triangleDistance(Vec3f p, Vec3f a, Vec3f b, Vec3f c);
 /// Brute force over all triangles.
 float bruteDistance(const Mesh& mesh, Vec3f p);
 double bruteWinding(const Mesh& mesh, Vec3f p);

@@ -37,7 +37,7 @@ struct [[nodiscard]] BakeStatus {
   static BakeStatus cancelled() { return {BakeError::kCancelled, "cancelled"}; }
 };
 
-/// What the mesh checks found. Edges are counted by vertex index pairs.
+/// What the mesh checks found. Edges are counted by vertex index pairs (hole_edges: by position).
 struct MeshReport {
   std::uint64_t vertices = 0;
   std::uint64_t triangles = 0;
@@ -47,10 +47,10 @@ struct MeshReport {
   /// Boundary edges that stay so when vertices at the same position count as one: the mesh's holes
   /// (a seam of repeated vertices, as files write where normals or texture coordinates change, is none).
   std::uint64_t hole_edges = 0;
-  std::uint64_t non_manifold_edges = 0;   ///< used by three or more triangles
-  std::uint64_t components = 0;           ///< connected by shared vertices
-  std::uint64_t misoriented_edges = 0;    ///< shared by two triangles that run it the same way
-  double signed_volume = 0.0;             ///< > 0 when a closed mesh's faces point outwards
+  std::uint64_t non_manifold_edges = 0; ///< used by three or more triangles
+  std::uint64_t components = 0;         ///< connected by shared vertices
+  std::uint64_t misoriented_edges = 0;  ///< shared by two triangles that run it the same way
+  double signed_volume = 0.0;           ///< > 0 when a closed mesh's faces point outwards
   Vec3f bounds_min;
   Vec3f bounds_max;
   bool closed() const { return boundary_edges == 0 && non_manifold_edges == 0; }
