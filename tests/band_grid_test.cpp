@@ -1,5 +1,6 @@
 // The baker's sparse working store (band_grid.h): it holds exactly the band, signs everything else
 // by flood fill, never hints a brick wrongly, and its blur gives what blurring the whole grid gives.
+#include "mesh_soup.h"
 #include "stages.h"
 #include "test_meshes.h"
 
@@ -13,12 +14,7 @@ namespace dng {
 namespace baker {
 namespace {
 
-TriangleSoup soupOf(const testing::Mesh& mesh) {
-  TriangleSoup soup;
-  soup.vertices = mesh.vertices;
-  soup.triangles = mesh.triangles;
-  return soup;
-}
+using testing::soupOf;
 
 // Signed distance to the axis-aligned box [-half, half]^3, exact.
 float boxDistance(Vec3f p, float half) {

@@ -2,6 +2,7 @@
 // every triangle: the candidates its cheap bounds send away must never include the closest one, also
 // where those bounds are least sure (sliver triangles, whose normals floats get wrong, and coordinates
 // far from the origin).
+#include "mesh_soup.h"
 #include "stages.h"
 #include "test_meshes.h"
 
@@ -15,12 +16,7 @@ namespace dng {
 namespace baker {
 namespace {
 
-TriangleSoup soupOf(const testing::Mesh& mesh) {
-  TriangleSoup soup;
-  soup.vertices = mesh.vertices;
-  soup.triangles = mesh.triangles;
-  return soup;
-}
+using testing::soupOf;
 
 // A torus, plus slivers: needle triangles at odd angles, a millionth as wide as they are long near the
 // origin; farther out as thin as floats there allow (a few steps of them), or they would be segments.
