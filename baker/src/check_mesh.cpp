@@ -55,10 +55,10 @@ struct EdgeCounts {
   std::uint64_t once = 0, three_or_more = 0, same_direction = 0;
 };
 
-// Counts edges, with vertices named by `name` (a vertex's index, or its first twin's), used once
-// (boundary), three or more times (non-manifold), and twice in the same direction (the two faces
-// disagree about which side is out).
-EdgeCounts countEdges(const TriangleSoup& soup, const std::vector<std::uint32_t>& name) {
+// Counts edges, with vertex v named name(v) (its index, or its first twin's), used once (boundary),
+// three or more times (non-manifold), and twice in the same direction (the two faces disagree about
+// which side is out).
+template <class Name> EdgeCounts countEdges(const TriangleSoup& soup, Name&& name) {
   struct Edge {
     std::uint32_t lo, hi;
     bool forward; // runs lo -> hi in its triangle
@@ -68,7 +68,7 @@ EdgeCounts countEdges(const TriangleSoup& soup, const std::vector<std::uint32_t>
   edges.reserve(soup.triangles.size() * 3);
   for (const auto& t : soup.triangles) {
     for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = name[t[e]], b = name[t[(e + 1) % 3]];
+      const std::uint32_t a = name(t[e]), b = name(t[(e + 1) % 3]);
       if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
     }
   }
@@ -138,13 +138,14 @@ MeshReport checkMesh(const TriangleSoup& soup) {
   }
   for (const auto& t : soup.triangles)
     r.degenerate_triangles += degenerate(soup, t) ? 1 : 0;
-  std::vector<std::uint32_t> own(soup.vertices.size());
-  std::iota(own.begin(), own.end(), 0u);
-  const EdgeCounts by_index = countEdges(soup, own);
+  const EdgeCounts by_index = countEdges(soup, [](std::uint32_t v) { return v; });
   r.boundary_edges = by_index.once;
   r.non_manifold_edges = by_index.three_or_more;
   r.misoriented_edges = by_index.same_direction;
-  r.hole_edges = r.boundary_edges > 0 ? countEdges(soup, firstTwins(soup)).once : 0;
+  if (r.boundary_edges > 0) {
+    const std::vector<std::uint32_t> twin = firstTwins(soup);
+    r.hole_edges = countEdges(soup, [&twin](std::uint32_t v) { return twin[v]; }).once;
+  }
   r.components = countComponents(soup);
   if (r.non_finite_vertices == 0) r.signed_volume = signedVolume(soup);
   return r;

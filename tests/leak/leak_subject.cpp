@@ -1,4 +1,5 @@
 #include "leak_subject.h"
+#include "mesh_soup.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +12,7 @@ namespace {
 // The voxel size placeGrid will choose at `resolution` for a band of kDesignVoxelsPerStep per step: the
 // band and the padding depend on the voxel size, so settle them together.
 float designVoxel(const LeakMesh& mesh, int resolution, std::string* out_error) {
-  baker::TriangleSoup soup;
-  soup.vertices = mesh.mesh.vertices;
-  soup.triangles = mesh.mesh.triangles;
-  const baker::MeshReport report = baker::checkMesh(soup);
+  const baker::MeshReport report = baker::checkMesh(testing::soupOf(mesh.mesh));
   const Vec3f extent = report.bounds_max - report.bounds_min;
   // A first guess: the padding takes as many voxels at any resolution.
   float voxel = std::max({extent.x, extent.y, extent.z}) / (float(resolution) - (float(kResolution) - kMeshVoxels));
