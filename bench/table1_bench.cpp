@@ -95,6 +95,13 @@ std::vector<Case> tableCases() {
   for (const Method m : {Method::kEmbree1, Method::kEmbree4, Method::kEmbree8, Method::kEmbree16,
                          Method::kLevelSetNearest, Method::kLevelSetTrilinear})
     cases.push_back({m});
+  // And Embree on a device limited to AVX2, the peer of the AVX2 lanes on such a CPU.
+  if (bestInstructionSet() == InstructionSet::kAvx512)
+    for (const Method m : {Method::kEmbree1, Method::kEmbree4, Method::kEmbree8, Method::kEmbree16}) {
+      Case c{m};
+      c.avx2 = true;
+      cases.push_back(c);
+    }
   return cases;
 }
 
@@ -138,7 +145,7 @@ const Prepared* prepared(const std::string& name, const MeshScene& scene, const 
 void runCase(benchmark::State& state, const std::string& name, const std::string& path, Case c, std::size_t particles,
              std::uint64_t budget) {
   std::string error;
-  const MeshScene* scene = meshScene(path, {c.dense, c.exact}, &error);
+  const MeshScene* scene = meshScene(path, {c.dense, c.exact, c.usesEmbree() && c.avx2}, &error);
   if (scene == nullptr) {
     state.SkipWithError(error.c_str());
     return;

@@ -70,6 +70,7 @@ struct EmbreeCaster::Impl {
   RTCScene scene = nullptr;
   std::atomic<long long> bytes{0};
   float standoff = 0.0f;
+  bool built = false;
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
@@ -122,11 +123,11 @@ EmbreeCaster::EmbreeCaster() : impl_(std::make_unique<Impl>()) {}
 EmbreeCaster::~EmbreeCaster() = default;
 
 bool EmbreeCaster::build(const std::vector<Vec3f>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                         float voxel) {
+                         float voxel, const char* device_config) {
   impl_ = std::make_unique<Impl>();
   Impl& m = *impl_;
   m.standoff = kStandOffVoxels * voxel;
-  m.device = rtcNewDevice(nullptr);
+  m.device = rtcNewDevice(device_config);
   if (m.device == nullptr) return false;
   rtcSetDeviceMemoryMonitorFunction(m.device, countBytes, &m.bytes);
   m.scene = rtcNewScene(m.device);
@@ -147,8 +148,11 @@ bool EmbreeCaster::build(const std::vector<Vec3f>& vertices, const std::vector<s
   rtcAttachGeometry(m.scene, geometry);
   rtcReleaseGeometry(geometry);
   rtcCommitScene(m.scene);
-  return rtcGetDeviceError(m.device) == RTC_ERROR_NONE;
+  m.built = rtcGetDeviceError(m.device) == RTC_ERROR_NONE;
+  return m.built;
 }
+
+bool EmbreeCaster::built() const { return impl_->built; }
 
 std::size_t EmbreeCaster::bytes() const { return std::size_t(std::max(0LL, impl_->bytes.load())); }
 

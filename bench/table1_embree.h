@@ -18,9 +18,14 @@ public:
   EmbreeCaster(const EmbreeCaster&) = delete;
   EmbreeCaster& operator=(const EmbreeCaster&) = delete;
 
-  /// Builds the BVH; false when Embree fails. `voxel` sets the stand-off (see step()).
+  /// Builds the BVH; false when Embree fails. `voxel` sets the stand-off (see step()). `device_config`
+  /// is Embree's device configuration string (null: its defaults, the best kernels this CPU has;
+  /// "max_isa=avx2": no AVX-512, what a CPU without it runs).
   bool build(const std::vector<Vec3f>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
-             float voxel);
+             float voxel, const char* device_config = nullptr);
+
+  /// Whether build() succeeded.
+  bool built() const;
 
   /// Bytes Embree holds for the scene (vertex and index buffers, BVH), as its memory monitor
   /// callback reported them while building: Embree has no query for a scene's size.

@@ -42,6 +42,7 @@ const File& fieldOf(const MeshScene& scene, const Case& c) {
 } // namespace
 
 std::string caseId(const Case& c) {
+  if (c.usesEmbree() && c.avx2) return "embree_rtcIntersect" + std::to_string(packetWidth(c.method)) + "_avx2";
   const std::string field = c.dense ? "dngrid_dense_" : c.exact ? "dngrid_bricked_exact_" : "dngrid_bricked_";
   if (c.avx2) return field + "flow_avx2";
   if (c.proven) return field + "flow_proven";
@@ -62,6 +63,7 @@ std::string caseId(const Case& c) {
 }
 
 std::string caseLabel(const Case& c) {
+  if (c.usesEmbree() && c.avx2) return "Embree rtcIntersect" + std::to_string(packetWidth(c.method)) + ", AVX2 device";
   const std::string field = c.dense ? "dngrid dense, " : c.exact ? "dngrid bricked exact, " : "dngrid bricked, ";
   if (c.avx2) return field + "impact+drag+flow, AVX2 lanes";
   if (c.proven) return field + "impact+drag+flow, spawns the field proves";
@@ -107,7 +109,8 @@ Stepper stepperFor(const MeshScene& scene, const Case& c) {
   case Method::kEmbree8:
   case Method::kEmbree16: {
     const int width = packetWidth(c.method);
-    return [&scene, width](Swarm* s) { scene.caster.step(width, kRestitution, kDt, s); };
+    const EmbreeCaster* caster = c.avx2 ? &scene.caster_avx2 : &scene.caster;
+    return [caster, width](Swarm* s) { caster->step(width, kRestitution, kDt, s); };
   }
   case Method::kLevelSetNearest:
   case Method::kLevelSetTrilinear: {
@@ -121,11 +124,8 @@ Stepper stepperFor(const MeshScene& scene, const Case& c) {
 
 std::size_t caseBytes(const MeshScene& scene, const Case& c) {
   if (c.usesField()) return fieldOf(scene, c).view().sizeBytes();
+  if (c.usesEmbree()) return c.avx2 ? scene.caster_avx2.bytes() : scene.caster.bytes();
   switch (c.method) {
-  case Method::kEmbree1:
-  case Method::kEmbree4:
-  case Method::kEmbree8:
-  case Method::kEmbree16: return scene.caster.bytes();
   case Method::kLevelSetNearest:
   case Method::kLevelSetTrilinear: return std::size_t(scene.levelset.size());
   default: return 0;

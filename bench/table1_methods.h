@@ -35,11 +35,17 @@ struct Case {
   Method method = Method::kPlain;
   bool dense = false; ///< dngrid only: the dense field instead of the bricked one
   bool exact = false; ///< dngrid only: a bricked field baked in exact mode instead of the default normal-blur
-  bool avx2 = false;  ///< dngrid only: the AVX2 kernels instead of the best this CPU has (where that is AVX-512)
+  /// dngrid: the AVX2 kernels instead of the best this CPU has (where that is AVX-512); Embree: a
+  /// device limited to AVX2 (Embree's max_isa=avx2).
+  bool avx2 = false;
   /// dngrid only: spawn points limited to those the field proves outside (Body::provesOutside), as an
   /// emitter that asks spawns; every other case keeps the spawn points the mesh alone chose.
   bool proven = false;
 
+  bool usesEmbree() const {
+    return method == Method::kEmbree1 || method == Method::kEmbree4 || method == Method::kEmbree8 ||
+           method == Method::kEmbree16;
+  }
   bool usesField() const {
     return method == Method::kImpact || method == Method::kImpactDragFlow || method == Method::kImpactDragFlowSwept;
   }

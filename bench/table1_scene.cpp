@@ -85,7 +85,7 @@ const Swarm& MeshScene::spawn(std::size_t count, bool proven) const {
   return it->second;
 }
 
-const MeshScene* meshScene(const std::string& path, ExtraFields extra, std::string* out_error) {
+const MeshScene* meshScene(const std::string& path, Extras extra, std::string* out_error) {
   static std::map<std::string, std::unique_ptr<MeshScene>> scenes;
   auto it = scenes.find(path);
   if (it == scenes.end()) {
@@ -101,6 +101,11 @@ const MeshScene* meshScene(const std::string& path, ExtraFields extra, std::stri
   if (extra.exact && !scene.exact.valid() &&
       !bakeField(path, format::Encoding::kBricked, baker::NormalMode::kExact, &scene.exact, &report, out_error))
     return nullptr;
+  if (extra.embree_avx2 && !scene.caster_avx2.built() &&
+      !scene.caster_avx2.build(scene.vertices, scene.triangles, scene.voxel, "max_isa=avx2")) {
+    *out_error = path + ": Embree could not build the scene on an AVX2 device";
+    return nullptr;
+  }
   return &scene;
 }
 

@@ -30,6 +30,7 @@ struct MeshScene {
   File dense; ///< empty until a case asks for it (meshScene)
   File exact; ///< bricked, baked in exact mode; empty until a case asks for it
   EmbreeCaster caster;
+  EmbreeCaster caster_avx2; ///< the same on a device limited to AVX2; unbuilt until a case asks for it
   nanovdb::GridHandle<nanovdb::HostBuffer> levelset;
 
   /// The spawn states of a swarm of `count` particles (table1_swarm.h), made once per count; with
@@ -40,16 +41,17 @@ private:
   mutable std::map<std::pair<std::size_t, bool>, Swarm> spawns_;
 };
 
-/// The fields a case may ask for beyond the default bricked one.
-struct ExtraFields {
-  bool dense = false; ///< dense, default mode
-  bool exact = false; ///< bricked, exact mode
+/// What a case may ask for beyond the default bricked field and Embree scene.
+struct Extras {
+  bool dense = false;       ///< the dense field, default mode
+  bool exact = false;       ///< the bricked field in exact mode
+  bool embree_avx2 = false; ///< the Embree scene on a device limited to AVX2
 };
 
 /// The scene of the mesh at `path` (any format the baker reads), built on first use and kept for the
-/// process, with the `extra` fields baked too (each once). Null, with *out_error set, when the mesh
+/// process, with the `extra` parts made too (each once). Null, with *out_error set, when the mesh
 /// cannot be loaded or baked. Not thread-safe: call from the benchmark thread.
-const MeshScene* meshScene(const std::string& path, ExtraFields extra, std::string* out_error);
+const MeshScene* meshScene(const std::string& path, Extras extra, std::string* out_error);
 
 } // namespace table1
 } // namespace dng
