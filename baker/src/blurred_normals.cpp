@@ -11,8 +11,10 @@
 #include <openvdb/tools/Morphology.h>
 #include <openvdb/tree/LeafManager.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 namespace dng {
 namespace baker {
@@ -41,16 +43,31 @@ typename GridT::Ptr surfaceGrid(const std::vector<SurfaceVoxel>& surface, ValueF
 // weights of the taps inside the grid: a blur must not grow values (the surface voxels, reset each
 // round, must stay the potential's maximum). Taps are read straight from the leaf and its two
 // neighbours along the axis (R <= 8 stays within them); a missing neighbour is an inactive tile of 0.
+// A leaf's voxels at one place along the axis share their taps and weights, so they are summed
+// together, tap by tap, each voxel's sum in the same order as alone (the same bits); per voxel, a
+// division for each tap's weight and one by the run-time stride had been most of the blur of the
+// bunny at 512.
 template <class GridT>
 void blurAxis(const GridT& in, int axis, std::uint32_t radius, const openvdb::CoordBBox& bounds, GridT* out) {
   using ValueT = typename GridT::ValueType;
   using LeafT = typename GridT::TreeType::LeafNodeType;
-  const int dim = int(LeafT::DIM);
-  const int stride = axis == 0 ? dim * dim : axis == 1 ? dim : 1; // OpenVDB's leaf order: z fastest
+  constexpr int kDim = int(LeafT::DIM), kLog2Dim = int(LeafT::LOG2DIM), kLayer = kDim * kDim;
+  static_assert(kDim == 1 << kLog2Dim && LeafT::SIZE == kLayer * kDim, "a leaf is a cube of power-of-two edge");
+  // OpenVDB's leaf order is x, y, z with z fastest: the axis' stride, and where each voxel of a layer
+  // across the axis sits (its two other coordinates, the slower one first).
+  const int shift = (2 - axis) * kLog2Dim, stride = 1 << shift;
+  const int slow_shift = axis == 0 ? kLog2Dim : 2 * kLog2Dim, fast_shift = axis == 2 ? kLog2Dim : 0;
+  int layer[kLayer];
+  for (int n = 0; n < kLayer; ++n)
+    layer[n] = (n >> kLog2Dim) << slow_shift | (n & (kDim - 1)) << fast_shift;
+  const int r = int(radius);
+  std::vector<float> tap(std::size_t(2 * r + 1));
+  for (int o = -r; o <= r; ++o)
+    tap[std::size_t(o + r)] = 1.0f - float(std::abs(o)) / float(radius + 1);
   openvdb::tree::LeafManager<typename GridT::TreeType> leaves(out->tree());
   leaves.foreach ([&](LeafT& leaf, std::size_t) {
     Coord step(0);
-    step[axis] = dim;
+    step[axis] = kDim;
     const LeafT* neighbours[3] = {in.tree().probeConstLeaf(leaf.origin() - step),
                                   in.tree().probeConstLeaf(leaf.origin()),
                                   in.tree().probeConstLeaf(leaf.origin() + step)};
@@ -60,19 +77,26 @@ void blurAxis(const GridT& in, int axis, std::uint32_t radius, const openvdb::Co
       line[n] = neighbours[n] != nullptr ? neighbours[n]->buffer().data() : nullptr;
     ValueT* target = leaf.buffer().data();
     const int first = leaf.origin()[axis], low = bounds.min()[axis], high = bounds.max()[axis];
-    for (int v = 0; v < int(LeafT::SIZE); ++v) {
-      if (!leaf.isValueMaskOn(openvdb::Index(v))) continue;
-      const int at = v / stride % dim, base = v - at * stride;
-      ValueT sum = openvdb::zeroVal<ValueT>();
+    for (int at = 0; at < kDim; ++at) {
+      // The taps inside the grid, in the order the sums have always taken them.
+      const int from = std::max(-r, low - first - at), to = std::min(r, high - first - at);
+      ValueT sum[kLayer];
+      std::fill(std::begin(sum), std::end(sum), openvdb::zeroVal<ValueT>());
       float weights = 0.0f;
-      for (int o = -int(radius); o <= int(radius); ++o) {
-        if (first + at + o < low || first + at + o > high) continue;
-        const int q = at + o + dim; // 0..3 dim - 1 across the three leaves
-        const float w = 1.0f - float(std::abs(o)) / float(radius + 1);
-        if (line[q / dim] != nullptr) sum = sum + line[q / dim][base + (q % dim) * stride] * w;
+      for (int o = from; o <= to; ++o) {
+        const int q = at + o + kDim; // 0..3 kDim - 1 across the three leaves
+        const float w = tap[std::size_t(o + r)];
         weights += w;
+        if (line[q >> kLog2Dim] == nullptr) continue;
+        const ValueT* source = line[q >> kLog2Dim] + (q & (kDim - 1)) * stride;
+        for (int n = 0; n < kLayer; ++n)
+          sum[n] = sum[n] + source[layer[n]] * w;
       }
-      target[v] = sum * (1.0f / weights);
+      const float scale = 1.0f / weights;
+      for (int n = 0; n < kLayer; ++n) {
+        const int v = layer[n] + at * stride;
+        if (leaf.isValueMaskOn(openvdb::Index(v))) target[v] = sum[n] * scale;
+      }
     }
   });
 }
