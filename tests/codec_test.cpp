@@ -61,6 +61,65 @@ TEST(Octahedral, ZeroAndNonFiniteVectorsEncodePlusZ) {
   EXPECT_LT(analytic::angleDegrees(octDecode(u, v, kWordOctBits), {0, 0, 1}), 0.1f);
 }
 
+// octEncode picks, of the four codes around a normal, the one whose decoded normal makes the smallest
+// angle with it as angleDegrees measures it (the first of equals): what it did when it compared the
+// angles' atan2s, now mostly by products (smallerAngle). Random normals, the octahedron's folds, and
+// +z from a zero vector, where the four candidates tie.
+TEST(Octahedral, EncoderPicksTheCandidateWithTheSmallestPreciseAngle) {
+  std::vector<Vec3f> normals = randomUnitVectors(100000);
+  normals.push_back({0, 0, 0});
+  for (const int bits : {kWordOctBits, kPlaneOctBits, kGradientOctBits}) {
+    const std::uint32_t top = (1u << bits) - 1;
+    for (const Vec3f& n : normals) {
+      std::uint32_t u = 0, v = 0;
+      octEncode(n, bits, &u, &v);
+      const Vec3f target = dot(n, n) > 0.0f ? n : Vec3f{0, 0, 1};
+      // The same four candidates, compared by their angles in degrees.
+      const float l1 = std::fabs(target.x) + std::fabs(target.y) + std::fabs(target.z);
+      float x = target.x / l1, y = target.y / l1;
+      if (target.z < 0.0f) {
+        const float fx = (1.0f - std::fabs(y)) * (x >= 0.0f ? 1.0f : -1.0f);
+        y = (1.0f - std::fabs(x)) * (y >= 0.0f ? 1.0f : -1.0f);
+        x = fx;
+      }
+      const float q = float(top);
+      const auto u0 = std::uint32_t(std::floor(std::fmin(std::fmax((x + 1.0f) * 0.5f * q, 0.0f), q)));
+      const auto v0 = std::uint32_t(std::floor(std::fmin(std::fmax((y + 1.0f) * 0.5f * q, 0.0f), q)));
+      double best = 360.0;
+      std::uint32_t best_u = 0, best_v = 0;
+      for (std::uint32_t du = 0; du < 2; ++du)
+        for (std::uint32_t dv = 0; dv < 2; ++dv) {
+          const std::uint32_t cu = std::min(u0 + du, top), cv = std::min(v0 + dv, top);
+          const double angle = angleDegrees(octDecode(cu, cv, bits), target);
+          if (angle < best) best = angle, best_u = cu, best_v = cv;
+        }
+      ASSERT_EQ(u, best_u) << bits << " bits, normal " << n.x << " " << n.y << " " << n.z;
+      ASSERT_EQ(v, best_v) << bits << " bits, normal " << n.x << " " << n.y << " " << n.z;
+    }
+  }
+}
+
+// smallerAngle orders angles as their degrees do, near ties included.
+TEST(Octahedral, SmallerAngleAgreesWithDegrees) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> jitter(-1e-6f, 1e-6f);
+  const std::vector<Vec3f> normals = randomUnitVectors(20000);
+  int decided = 0;
+  for (std::size_t k = 0; k + 1 < normals.size(); ++k) {
+    const Vec3f n = normals[k];
+    // Nearly the same angle from either side, as a code's neighbours make.
+    const Vec3f a = normalizeOrZero(n + Vec3f{jitter(rng), jitter(rng), jitter(rng)});
+    const Vec3f b = normalizeOrZero(n + Vec3f{jitter(rng), jitter(rng), jitter(rng)});
+    const Vec3f c = normals[k + 1];
+    for (const auto& pair : {std::pair<Vec3f, Vec3f>{a, b}, {b, a}, {a, c}, {c, a}, {a, a}}) {
+      const AngleParts x = angleParts(pair.first, n), y = angleParts(pair.second, n);
+      ASSERT_EQ(smallerAngle(x, y), degreesOf(x) < degreesOf(y));
+      decided += smallerAngle(x, y) ? 1 : 0;
+    }
+  }
+  EXPECT_GT(decided, 20000); // both answers occur
+}
+
 // GRAD words (8 + 8 bits) round-trip within two thirds of a degree, and every word, including the ones a
 // corrupted file may hold, decodes to a unit vector.
 TEST(GradientWords, RoundTripWithinTwoThirdsOfADegreeAndEveryWordIsUnit) {

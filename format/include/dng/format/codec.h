@@ -71,14 +71,14 @@ inline void octEncode(Vec3f n, int bits, std::uint32_t* out_u, std::uint32_t* ou
   const auto u0 = std::uint32_t(std::floor(fu));
   const auto v0 = std::uint32_t(std::floor(fv));
   const std::uint32_t top = (1u << bits) - 1;
-  double best = 360.0;
+  AngleParts best{};
   for (std::uint32_t du = 0; du < 2; ++du) {
     for (std::uint32_t dv = 0; dv < 2; ++dv) {
       const std::uint32_t u = u0 + du > top ? top : u0 + du;
       const std::uint32_t v = v0 + dv > top ? top : v0 + dv;
       // Candidates differ by less than a float cosine can resolve: compare precise angles.
-      const double angle = angleDegrees(octDecode(u, v, bits), n);
-      if (angle < best) {
+      const AngleParts angle = angleParts(octDecode(u, v, bits), n);
+      if ((du == 0 && dv == 0) || smallerAngle(angle, best)) {
         best = angle;
         *out_u = u;
         *out_v = v;

@@ -34,15 +34,37 @@ inline bool isFinite(Vec3f v) { return std::isfinite(v.x) && std::isfinite(v.y) 
 inline float component(const Vec3f& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 inline float& component(Vec3f& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 
-/// Angle between `a` and `b` in degrees, 0 when either is zero. Uses atan2 of |a x b| and a . b in
-/// double precision, which stays accurate for tiny angles where acos of a float cosine cannot.
-inline double angleDegrees(Vec3f a, Vec3f b) {
+/// The angle between `a` and `b` as its sine and cosine times |a| |b|: |a x b| and a . b, in double
+/// precision (angleDegrees takes their atan2).
+struct AngleParts {
+  double sine, cosine;
+};
+inline AngleParts angleParts(Vec3f a, Vec3f b) {
   const double ax = a.x, ay = a.y, az = a.z, bx = b.x, by = b.y, bz = b.z;
   const double cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
-  const double sine = std::sqrt(cx * cx + cy * cy + cz * cz);
-  const double cosine = ax * bx + ay * by + az * bz;
-  if (sine == 0.0 && cosine == 0.0) return 0.0;
-  return std::atan2(sine, cosine) * 57.29577951308232;
+  return {std::sqrt(cx * cx + cy * cy + cz * cz), ax * bx + ay * by + az * bz};
+}
+
+/// The angle of `p` in degrees, as angleDegrees answers it.
+inline double degreesOf(AngleParts p) {
+  if (p.sine == 0.0 && p.cosine == 0.0) return 0.0;
+  return std::atan2(p.sine, p.cosine) * 57.29577951308232;
+}
+
+/// Angle between `a` and `b` in degrees, 0 when either is zero. Uses atan2 of |a x b| and a . b in
+/// double precision, which stays accurate for tiny angles where acos of a float cosine cannot.
+inline double angleDegrees(Vec3f a, Vec3f b) { return degreesOf(angleParts(a, b)); }
+
+/// degreesOf(x) < degreesOf(y), mostly without the atan2s: for angles in [0, 180] degrees, x is the
+/// smaller when sin(y - x) > 0, which the parts give by two products. Only where those are too close
+/// to call in doubles (far below any difference that matters) are the atan2s taken, so the answer is
+/// always the atan2s'.
+inline bool smallerAngle(AngleParts x, AngleParts y) {
+  if (x.sine == y.sine && x.cosine == y.cosine) return false; // a tie, as between mirrored candidates
+  const double ys_xc = y.sine * x.cosine, yc_xs = y.cosine * x.sine;
+  const double difference = ys_xc - yc_xs;
+  if (std::fabs(difference) > 1e-12 * (std::fabs(ys_xc) + std::fabs(yc_xs))) return difference > 0.0;
+  return degreesOf(x) < degreesOf(y);
 }
 
 /// Unit vector along `a`, or the zero vector when `a` is zero or not finite-length.
