@@ -58,14 +58,20 @@ void addTriangleBlocks(const TriangleSoup& soup, const format::GridGeometry& g, 
       }
 }
 
-// The blocks near the surface, sorted and unique (so the same whatever the thread count).
+// The blocks near the surface, sorted and unique (so the same whatever the thread count). Each run of
+// triangles drops its repeats first: neighbouring triangles share most of their blocks, and sorting
+// every triangle's blocks at the end had been a tenth of the bunny's distance stage, on one thread.
 std::vector<BlockKey> bandBlocks(const TriangleSoup& soup, const format::GridGeometry& g) {
   tbb::enumerable_thread_specific<std::vector<BlockKey>> found;
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(soup.triangles.size()), 1024),
                     [&](const tbb::blocked_range<std::uint32_t>& r) {
-                      std::vector<BlockKey>& local = found.local();
+                      std::vector<BlockKey> run;
                       for (std::uint32_t t = r.begin(); t != r.end(); ++t)
-                        addTriangleBlocks(soup, g, t, &local);
+                        addTriangleBlocks(soup, g, t, &run);
+                      std::sort(run.begin(), run.end());
+                      run.erase(std::unique(run.begin(), run.end()), run.end());
+                      std::vector<BlockKey>& local = found.local();
+                      local.insert(local.end(), run.begin(), run.end());
                     });
   std::vector<BlockKey> keys;
   for (const std::vector<BlockKey>& local : found)
