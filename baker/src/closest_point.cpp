@@ -132,13 +132,16 @@ bool visitTriangle(RTCPointQueryFunctionArguments* args) {
 
 struct NearState {
   const SceneTriangles* scene;
+  bool (*wanted)(void* user, std::uint32_t triangle); // null: every triangle
   void (*visit)(void* user, std::uint32_t triangle);
   void* user;
 };
 
-// Every triangle whose bounds the walk reaches, kept when its closest point is within the radius.
+// Every triangle whose bounds the walk reaches, kept when the caller wants it and its closest point is
+// within the radius.
 bool visitNear(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<NearState*>(args->userPtr);
+  if (state->wanted != nullptr && !state->wanted(state->user, (*state->scene)[args->primID].triangle)) return false;
   const Reached r = reached(args, *state->scene);
   if (r.distance < args->query->radius) state->visit(state->user, r.triangle);
   return false; // the radius stays: every triangle within it is wanted
@@ -209,9 +212,9 @@ ClosestPointIndex::Hit ClosestPointIndex::query(Vec3f p, float radius) const {
   return state.hit;
 }
 
-void ClosestPointIndex::forEachNear(Vec3f p, float radius, void (*visit)(void* user, std::uint32_t triangle),
-                                    void* user) const {
-  NearState state{&impl_->primitives, visit, user};
+void ClosestPointIndex::forEachNear(Vec3f p, float radius, bool (*wanted)(void* user, std::uint32_t triangle),
+                                    void (*visit)(void* user, std::uint32_t triangle), void* user) const {
+  NearState state{&impl_->primitives, wanted, visit, user};
   pointQuery(impl_->scene, p, radius, visitNear, &state);
 }
 

@@ -159,12 +159,15 @@ float readingOnSurface(const PlaneMesh& mesh, Vec3f centre, float d, Vec3f n, fl
   float highest = floor;
   // A hair larger: rounding in the clip keeps every point.
   const float half = surfaceBoxHalf(h) * (1.0f + 1e-5f);
-  mesh.index->forEachTriangleNear(centre, std::sqrt(3.0f) * half, [&](std::uint32_t t) {
-    // Most triangles lie below the plane: none of its part in the cell reads more than its corners do.
+  // Most triangles lie below the plane: none of its part in the cell reads more than its corners do.
+  // Asked before the exact distance: a coarse grid's cell is near thousands of triangles.
+  const auto may_rise = [&](std::uint32_t t) {
     float corners = -std::numeric_limits<float>::infinity();
     for (int k = 0; k < 3; ++k)
       corners = std::max(corners, d + dot(n, mesh.soup->vertices[mesh.soup->triangles[t][std::size_t(k)]] - centre));
-    if (corners <= highest) return;
+    return corners > highest;
+  };
+  mesh.index->forEachTriangleNear(centre, std::sqrt(3.0f) * half, may_rise, [&](std::uint32_t t) {
     Vec3f poly[12];
     const int count = clipTriangleToBox(*mesh.soup, t, centre, half, poly);
     for (int k = 0; k < count; ++k)

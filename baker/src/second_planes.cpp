@@ -122,10 +122,11 @@ float cornerPeak(const TriangleSoup& soup, std::uint32_t t, Vec3f centre, const 
 float surfaceRise(const PlaneMesh& mesh, Vec3f centre, const Bound& bound, float radius) {
   float rise = 0.0f;
   const float top = bound.at({}) + radius;
-  mesh.index->forEachTriangleNear(centre, radius, [&](std::uint32_t t) {
-    // Most triangles lie below the bound: if none of a triangle's corners reads above the rise so far,
-    // no part of it does (a plane peaks at a corner, and a pair's smaller plane below either's peak).
-    if (cornerPeak(*mesh.soup, t, centre, bound) <= rise) return;
+  // Most triangles lie below the bound: if none of a triangle's corners reads above the rise so far, no
+  // part of it does (a plane peaks at a corner, and a pair's smaller plane below either's peak). Asked
+  // before the exact distance: a coarse grid's cell is near thousands of triangles.
+  const auto may_rise = [&](std::uint32_t t) { return cornerPeak(*mesh.soup, t, centre, bound) > rise; };
+  mesh.index->forEachTriangleNear(centre, radius, may_rise, [&](std::uint32_t t) {
     Vec3f poly[12];
     // Slightly larger than the ball, so rounding in the clip cannot drop a point inside it.
     const int count = clipTriangleToBox(*mesh.soup, t, centre, radius * (1.0f + 1e-5f), poly);

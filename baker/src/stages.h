@@ -88,11 +88,25 @@ public:
   /// comes within `radius` of `p`, in no particular order.
   template <class Visit> void forEachTriangleNear(Vec3f p, float radius, Visit&& visit) const {
     forEachNear(
-        p, radius, [](void* user, std::uint32_t t) { (*static_cast<Visit*>(user))(t); }, &visit);
+        p, radius, nullptr, [](void* user, std::uint32_t t) { (*static_cast<Visit*>(user))(t); }, &visit);
+  }
+  /// The same for the triangles `wanted(triangle)` also accepts: a cheap test asked first, before the
+  /// exact distance, of each triangle the walk reaches, in the order the visits come. A test that
+  /// reads what earlier visits wrote sees what it would see asked inside the visit.
+  template <class Wanted, class Visit>
+  void forEachTriangleNear(Vec3f p, float radius, Wanted&& wanted, Visit&& visit) const {
+    struct Both {
+      Wanted& wanted;
+      Visit& visit;
+    } both{wanted, visit};
+    forEachNear(
+        p, radius, [](void* user, std::uint32_t t) { return static_cast<Both*>(user)->wanted(t); },
+        [](void* user, std::uint32_t t) { static_cast<Both*>(user)->visit(t); }, &both);
   }
 
 private:
-  void forEachNear(Vec3f p, float radius, void (*visit)(void* user, std::uint32_t triangle), void* user) const;
+  void forEachNear(Vec3f p, float radius, bool (*wanted)(void* user, std::uint32_t triangle),
+                   void (*visit)(void* user, std::uint32_t triangle), void* user) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
