@@ -73,18 +73,10 @@ TEST(Octahedral, EncoderPicksTheCandidateWithTheSmallestPreciseAngle) {
     for (const Vec3f& n : normals) {
       std::uint32_t u = 0, v = 0;
       octEncode(n, bits, &u, &v);
-      const Vec3f target = dot(n, n) > 0.0f ? n : Vec3f{0, 0, 1};
-      // The same four candidates, compared by their angles in degrees.
-      const float l1 = std::fabs(target.x) + std::fabs(target.y) + std::fabs(target.z);
-      float x = target.x / l1, y = target.y / l1;
-      if (target.z < 0.0f) {
-        const float fx = (1.0f - std::fabs(y)) * (x >= 0.0f ? 1.0f : -1.0f);
-        y = (1.0f - std::fabs(x)) * (y >= 0.0f ? 1.0f : -1.0f);
-        x = fx;
-      }
-      const float q = float(top);
-      const auto u0 = std::uint32_t(std::floor(std::fmin(std::fmax((x + 1.0f) * 0.5f * q, 0.0f), q)));
-      const auto v0 = std::uint32_t(std::floor(std::fmin(std::fmax((y + 1.0f) * 0.5f * q, 0.0f), q)));
+      // The same four candidates (octCell), compared by their angles in degrees.
+      const Vec3f target = octTarget(n);
+      std::uint32_t u0 = 0, v0 = 0;
+      octCell(target, bits, &u0, &v0);
       double best = 360.0;
       std::uint32_t best_u = 0, best_v = 0;
       for (std::uint32_t du = 0; du < 2; ++du)

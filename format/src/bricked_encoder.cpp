@@ -98,9 +98,8 @@ float tiltAllowance(Vec3f stored, Vec3f input, float voxel_size) {
 
 bool inBand(const Encoder& e, std::size_t v) { return std::fabs(e.distance[v]) < e.grid.band; }
 
-// Whether the cosine of the angle between `a` and `b` is above `bound` > 0, without the atan2.
-bool cosineAbove(Vec3f a, Vec3f b, double bound) {
-  const AngleParts p = angleParts(a, b);
+// Whether the cosine of angle `p` is above `bound` > 0, without the atan2.
+bool cosineAbove(AngleParts p, double bound) {
   return p.cosine > 0.0 && p.cosine * p.cosine > bound * bound * (p.sine * p.sine + p.cosine * p.cosine);
 }
 
@@ -113,9 +112,10 @@ void measure(Encoder& e, std::size_t v, float decoded_distance, Vec3f decoded_no
       std::max(e.stats.max_distance_error_voxels, std::fabs(decoded_distance - e.distance[v]) / h);
   // Most voxels' normal error is below the largest so far, and their cosine, without the angle's atan2
   // (a sixth of a 512^3 bake's encoding), says so with room to spare: the same maximum.
-  if (cosineAbove(e.normal[v], decoded_normal, e.no_news_cosine)) return;
+  const AngleParts parts = angleParts(e.normal[v], decoded_normal);
+  if (cosineAbove(parts, e.no_news_cosine)) return;
   // A zero input normal (the producer gave none) compares as 0 degrees: nothing to compare.
-  const auto angle = float(angleDegrees(e.normal[v], decoded_normal));
+  const auto angle = float(degreesOf(parts));
   if (!(angle > e.stats.max_normal_error_deg)) return;
   e.stats.max_normal_error_deg = angle;
   // Above cos(max) by far more than rounding: any angle whose cosine is above this is smaller.

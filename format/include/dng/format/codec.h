@@ -50,12 +50,15 @@ DNG_FORCE_INLINE Vec3f octDecode(std::uint32_t qu, std::uint32_t qv, int bits) {
   return {x * inv, y * inv, z * inv};
 }
 
-/// Octahedral encode of a unit vector to the nearest of the four surrounding lattice points
-/// (the "precise" variant: it minimises the decoded angle error). A zero or non-finite vector
-/// encodes +z. Used by writers only; not on any query path.
-inline void octEncode(Vec3f n, int bits, std::uint32_t* out_u, std::uint32_t* out_v) {
+/// The vector octEncode encodes: `n`, or +z when `n` is zero or not finite.
+inline Vec3f octTarget(Vec3f n) {
   const float l1 = std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z);
-  if (!(l1 > 0.0f) || !std::isfinite(l1)) n = {0.0f, 0.0f, 1.0f};
+  return l1 > 0.0f && std::isfinite(l1) ? n : Vec3f{0.0f, 0.0f, 1.0f};
+}
+
+/// The lower corner (u0, v0) of the lattice cell that holds `n` (non-zero, finite), whose four corners
+/// (clamped to the lattice) octEncode chooses among.
+inline void octCell(Vec3f n, int bits, std::uint32_t* out_u0, std::uint32_t* out_v0) {
   const float inv_l1 = 1.0f / (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z));
   float x = n.x * inv_l1;
   float y = n.y * inv_l1;
@@ -68,8 +71,17 @@ inline void octEncode(Vec3f n, int bits, std::uint32_t* out_u, std::uint32_t* ou
   const float max_q = float((1u << bits) - 1);
   const float fu = std::fmin(std::fmax((x + 1.0f) * 0.5f * max_q, 0.0f), max_q);
   const float fv = std::fmin(std::fmax((y + 1.0f) * 0.5f * max_q, 0.0f), max_q);
-  const auto u0 = std::uint32_t(std::floor(fu));
-  const auto v0 = std::uint32_t(std::floor(fv));
+  *out_u0 = std::uint32_t(std::floor(fu));
+  *out_v0 = std::uint32_t(std::floor(fv));
+}
+
+/// Octahedral encode of a unit vector to the nearest of the four surrounding lattice points
+/// (the "precise" variant: it minimises the decoded angle error). A zero or non-finite vector
+/// encodes +z. Used by writers only; not on any query path.
+inline void octEncode(Vec3f n, int bits, std::uint32_t* out_u, std::uint32_t* out_v) {
+  n = octTarget(n);
+  std::uint32_t u0 = 0, v0 = 0;
+  octCell(n, bits, &u0, &v0);
   const std::uint32_t top = (1u << bits) - 1;
   AngleParts best{};
   for (std::uint32_t du = 0; du < 2; ++du) {
