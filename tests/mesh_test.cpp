@@ -126,6 +126,27 @@ TEST_F(MeshTest, OffFacesAreAStreamOfWords) {
   expectRefused("cut.off", head + "3 0 2 1\n3 0 1\n", "face 1 claims 3 vertices and the file ends after 2");
 }
 
+// OpenMesh reads a vertex's numbers with the stream too, across line ends and blank lines, and then
+// the rest of the last number's line apart: a NOFF normal may sit on the line after its position.
+TEST_F(MeshTest, OffVerticesMaySpanLines) {
+  const std::string faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const std::string noff = "NOFF\n4 4 0\n0 0 0\n0 0 -1\n1 0 0\n0 0 -1\n0 1 0 0\n\n0 -1\n0 0 1 1 1 1 # tip\n";
+  const TriangleSoup soup = load(write("next_line.off", noff + faces));
+  EXPECT_EQ(checkMesh(soup).triangles, 4u);
+  EXPECT_TRUE(checkMesh(soup).closed());
+  ASSERT_EQ(soup.vertices.size(), 4u);
+  EXPECT_EQ(soup.vertices[3].z, 1.0f);
+  // Plain OFF: a position broken over lines; the rest of its last line is the vertex's, unread.
+  EXPECT_EQ(checkMesh(load(write("split.off", "OFF\n4 4 0\n0 0\n0\n1 0 0 7 7\n0 1\n0\n0 0 1\n" + faces))).triangles,
+            4u);
+  // A comment where a number is due fails the reader's read, on the vertex's first line or after it.
+  expectRefused("comment_between.off", "OFF\n4 4 0\n0 0\n# c\n0\n1 0 0\n0 1 0\n0 0 1\n" + faces,
+                "vertex 0 has fewer than 3 coordinates");
+  expectRefused("comment_glued.off", "NOFF\n4 4 0\n0 0 0 0#c\n0 -1\n" + faces, "vertex 0 has fewer than 6 numbers");
+  expectRefused("comment_line.off", "OFF\n4 4 0\n0 0 0\n# c\n1 0 0\n" + faces, "vertex 1 is a comment line");
+  expectRefused("normal_cut.off", "NOFF\n1 0 0\n0 0 0 0 0", "vertex 0 has fewer than 6 numbers");
+}
+
 // A binary OFF as OpenMesh reads one: little-endian 32-bit counts, vertex records (three floats, three
 // more with N) and faces of a valence and its indices.
 std::string binaryOff(const std::string& keyword, std::uint32_t vertices, std::uint32_t faces,
@@ -289,6 +310,30 @@ TEST_F(MeshTest, BinaryPlyTypesTheReaderMisreadsAreRefused) {
   expectRefused("short_x.ply", ply("short", "uchar"),
                 "vertex property 'x' is short: OpenMesh's binary reader misreads it");
   expectRefused("double_red.ply", ply("float", "double"), "vertex property 'red' is double");
+}
+
+// A face's diffuse_red, diffuse_green and diffuse_blue are not colours to OpenMesh's binary reader: it
+// skips them by their size, double or not, where a face's red in double precision derails it.
+TEST_F(MeshTest, BinaryPlyFaceDiffuseDoublesLoad) {
+  const auto ply = [](const std::string& face_colour) {
+    std::string text = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                       "property float z\nelement face 4\nproperty list uchar int vertex_indices\nproperty double " +
+                       face_colour + "\nend_header\n";
+    const float positions[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    text.append(reinterpret_cast<const char*>(positions), sizeof positions);
+    const std::int32_t faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    const double shade = 0.5;
+    for (const auto& corners : faces) {
+      text += '\3';
+      text.append(reinterpret_cast<const char*>(corners), sizeof corners);
+      text.append(reinterpret_cast<const char*>(&shade), sizeof shade);
+    }
+    return text;
+  };
+  const TriangleSoup soup = load(write("diffuse.ply", ply("diffuse_red")));
+  EXPECT_EQ(checkMesh(soup).triangles, 4u);
+  EXPECT_TRUE(checkMesh(soup).closed());
+  expectRefused("face_red.ply", ply("red"), "face property 'red' is double");
 }
 
 // OpenMesh's .om reader needs a whole OpenMesh mesh, which the soup importer is not: such files are

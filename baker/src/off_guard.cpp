@@ -60,10 +60,35 @@ std::string offendingWord(std::istream& in, const std::string& number) {
   return word.substr(0, 20);
 }
 
-// Each vertex line must start with three finite coordinates (six numbers with NOFF's normal: one the
-// stream cannot read fails it, and each face then reads the vertex count as its valence), and each
-// face must list as many indices as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge
-// number) and tried to allocate 2 GB (found by fuzzing). OpenMesh reads a vertex per line but the faces as one stream
+// What is wrong with a vertex's `count` numbers (3, or 6 with NOFF's normal), empty when nothing is.
+// OpenMesh reads them with the stream's `>>`, so across blank lines and line ends, and then the rest
+// of the last one's line apart (its colours): *io_line and *io_at are where the reading stands, and
+// the rest of the line is dropped when the vertex is read. A number must be a whole word, finite as
+// a float; a comment may follow the last one. `*out_end` is set when the file ends before the vertex.
+std::string vertexProblem(std::istream& in, int count, std::string* io_line, const char** io_at, bool* out_end) {
+  const std::string fewer =
+      count == 3 ? "has fewer than 3 coordinates" : "has fewer than 6 numbers, its position and normal";
+  for (int read = 0; read < count; ++read) {
+    const char *begin = nullptr, *end = nullptr;
+    if (!nextWord(in, io_line, io_at, &begin, &end)) {
+      *out_end = read == 0; // no vertex at all: a short file, which OpenMesh reads as far as it goes
+      return read == 0 ? std::string() : fewer;
+    }
+    // The reader reads "#" as a number, fails, and then reads every face's valence as the vertex
+    // count: faces times vertices of work, and no mesh.
+    if (*begin == '#') return read == 0 ? "is a comment line: OpenMesh's reader cannot skip it" : fewer;
+    const char* number_end = std::find(begin, end, '#');
+    if (!finiteNumber(begin, number_end)) return notFinite(begin, number_end);
+    if (number_end != end && read + 1 < count) return fewer; // the next read starts at the comment
+  }
+  *io_at = io_line->c_str() + io_line->size();
+  return {};
+}
+
+// Each vertex must start with finite coordinates (vertexProblem; a number the stream cannot read fails
+// it, and each face then reads the vertex count as its valence), and each face must list as many
+// indices as its valence says: OpenMesh reserved room for a valence of 3 * 10^86 (read as a huge
+// number) and tried to allocate 2 GB (found by fuzzing). OpenMesh reads the faces as one stream
 // of numbers, line ends included (a face's valence may follow another face's indices on its line), each read as far as
 // its digits go, so the faces are checked the same way: read line by line, a valence after a face of valence 0 had
 // passed unchecked, and read word by word, an index "0-4" had hidden the valence -4 that OpenMesh read after its 0;
@@ -72,16 +97,11 @@ template <class Failure>
 BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces, int numbers,
                         Failure failure) {
   std::string line;
-  for (std::uint64_t vertex = 0; vertex < vertices && std::getline(in, line);) {
-    const std::size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos) continue; // a blank line is only space to the reader
-    // The reader reads "#" as a coordinate, fails, and then reads every face's valence as the vertex
-    // count: faces times vertices of work, and no mesh.
-    if (line[first] == '#')
-      return failure("vertex " + std::to_string(vertex) + " is a comment line: OpenMesh's reader cannot skip it");
-    const std::string problem = coordinateProblem(line.c_str() + first, numbers);
+  const char* at = line.c_str();
+  bool file_ended = false;
+  for (std::uint64_t vertex = 0; vertex < vertices && !file_ended; ++vertex) {
+    const std::string problem = vertexProblem(in, numbers, &line, &at, &file_ended);
     if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
-    ++vertex;
   }
   for (std::uint64_t face = 0; face < faces; ++face) {
     in >> std::ws;
@@ -204,7 +224,7 @@ BakeStatus checkOffHeader(const std::string& path) {
   if (vertices > size / 6 || faces > size / 2)
     return failure("header counts " + counts[0] + " " + counts[1] + " are impossible in a file of " +
                    std::to_string(size) + " bytes");
-  // OpenMesh reads a NOFF vertex's normal from the stream too (the rest of its line it reads apart).
+  // OpenMesh reads a NOFF vertex's normal from the stream too, on the position's line or after it.
   const int numbers = keyword.find('N') != std::string::npos ? 6 : 3;
   return checkOffBody(in, size, vertices, faces, numbers, failure);
 }

@@ -139,24 +139,29 @@ template <std::size_t N> bool named(const PlyProperty& p, const char* const (&na
   return std::find(std::begin(names), std::end(names), p.name) != std::end(names);
 }
 
+// Whether OpenMesh's reader reads property `p` of element `e` as a colour: a vertex's colour names, and a
+// face's but the diffuse_ ones, which it takes for a property of its own and skips by their size.
+bool readAsColour(const PlyElement& e, const PlyProperty& p) {
+  return (e.name == "vertex" && named(p, kColourNames)) ||
+         (e.name == "face" && named(p, kColourNames) && p.name.compare(0, 8, "diffuse_") != 0);
+}
+
 // How OpenMesh's ASCII reader reads property `p` of element `e`: "float" (positions, normals, texture
 // coordinates, whatever their declared type, and float colours), "int" (other colours, double ones
 // too), or "" for a word it skips.
 std::string textRead(const PlyElement& e, const PlyProperty& p) {
   if (e.name == "vertex" && named(p, kFloatNames)) return "float";
-  const bool colour = (e.name == "vertex" && named(p, kColourNames)) ||
-                      (e.name == "face" && named(p, kColourNames) && p.name.compare(0, 8, "diffuse_") != 0);
-  if (!colour) return "";
+  if (!readAsColour(e, p)) return "";
   return p.type == "float" || p.type == "float32" ? "float" : "int";
 }
 
 // What OpenMesh 9.0's binary PLY reader cannot read in place, found by trying every type: a vertex's
-// position, normal or texture coordinate of an integer type, and a colour in double precision. It reads
-// such a value as nothing or as a float, and every value after it from the wrong bytes.
+// position, normal or texture coordinate of an integer type, and a colour in double precision (a face's
+// diffuse_red and the like it reads in place, as properties of their own). It reads such a value as
+// nothing or as a float, and every value after it from the wrong bytes.
 std::string plyBinaryTypeProblem(const PlyElement& e, const PlyProperty& p) {
   const bool float_read = e.name == "vertex" && named(p, kFloatNames);
-  const bool colour = (e.name == "vertex" || e.name == "face") && named(p, kColourNames);
-  if ((float_read && !isFloatType(p.type)) || (colour && plyTypeSize(p.type) == 8))
+  if ((float_read && !isFloatType(p.type)) || (readAsColour(e, p) && plyTypeSize(p.type) == 8))
     return e.name + " property '" + p.name + "' is " + p.type + ": OpenMesh's binary reader misreads it";
   return {};
 }
