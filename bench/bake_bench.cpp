@@ -2,6 +2,7 @@
 // (issue #4's goal: the Stanford bunny at resolution 128 in <= 1.5 s on 2 cores and <= 2x
 // meshToLevelSet; the paper needed one to two minutes for 50^3), and at 512 to show how it scales. The mesh path comes
 // from DNG_BENCH_MESH (bench/run.sh fetches Debian's bunny00.off).
+#include "bench_main.h"
 #include "stages.h"
 
 #include <benchmark/benchmark.h>
@@ -81,4 +82,4 @@ BENCHMARK(BM_MeshToLevelSet)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTi
 
 } // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return dng::bench::runBenchmarks(argc, argv, "bake_bench"); }

@@ -4,6 +4,7 @@
 // ReadAccessor (distance + 3 forward differences for the normal, as a level-set user would).
 //
 // Every benchmark reports per_query (seconds); bench/run.sh turns them into ratios in docs/PERFORMANCE.md.
+#include "bench_main.h"
 #include "dng/instruction_set.h"
 #include "sphere_scene.h"
 
@@ -175,4 +176,4 @@ BENCHMARK(BM_NanoVdb)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 } // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return dng::bench::runBenchmarks(argc, argv, "field_query_bench"); }

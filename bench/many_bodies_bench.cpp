@@ -7,6 +7,7 @@
 //     a quarter of the drops are inside a building's box and sample it).
 // Both in random order and (the folded pair) in lattice order. The city without the broadphase shows
 // what it saves.
+#include "bench_main.h"
 #include "city_scene.h"
 #include "dng/body_index.h"
 #include "dng/forces.h"
@@ -102,4 +103,4 @@ BENCHMARK(BM_CallOverhead)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 } // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return dng::bench::runBenchmarks(argc, argv, "many_bodies_bench"); }

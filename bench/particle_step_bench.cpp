@@ -1,6 +1,7 @@
 // Per-particle step cost for 1M particles near a sphere: the full step (gravity + stepParticles)
 // with a sphere body against the same step with no body, in one run (issue #3's goal: collision
 // overhead <= 1.3x the no-collision step; the paper's compressed grid cost 1.44x, Table 1).
+#include "bench_main.h"
 #include "dng/forces.h"
 #include "dng/instruction_set.h"
 #include "dng/particles.h"
@@ -129,4 +130,4 @@ BENCHMARK(BM_Step)
 
 } // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return dng::bench::runBenchmarks(argc, argv, "particle_step_bench"); }

@@ -32,9 +32,14 @@ meshes="$(dirname "$DNG_BENCH_MESH")" extra="$root/data/table1"
   --sweep_particles=100000 --benchmark_min_time=0.2 --benchmark_repetitions=5 \
   --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true \
   --benchmark_format=json >"$build/table1_bench.json"
+# The report and the plot are made beside the build and moved into docs/ only when all of them are
+# whole: a run that fails half-way (a full disk, a benchmark that exits 2) leaves the last report.
+report="$build/PERFORMANCE.md" plot="$build/table1_sweep.png"
 python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle_step_bench.json" "$build/bake_bench.json" \
-  "$build/table1_bench.json" "$build/many_bodies_bench.json" "$build/threads_bench.json" >"$root/docs/PERFORMANCE.md"
-gnuplot -e "data='$build/table1_bench_sweep.dat'; out='$root/docs/images/table1_sweep.png'" "$root/bench/table1_plot.gp"
+  "$build/table1_bench.json" "$build/many_bodies_bench.json" "$build/threads_bench.json" >"$report"
+gnuplot -e "data='$build/table1_bench_sweep.dat'; out='$plot'" "$root/bench/table1_plot.gp"
 echo "bench/run.sh: running accuracy_bench" >&2
-"$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$root/docs/PERFORMANCE.md"
+"$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$report"
+cp "$plot" "$root/docs/images/table1_sweep.png.new" && mv "$root/docs/images/table1_sweep.png.new" "$root/docs/images/table1_sweep.png"
+cp "$report" "$root/docs/PERFORMANCE.md.new" && mv "$root/docs/PERFORMANCE.md.new" "$root/docs/PERFORMANCE.md"
 echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2

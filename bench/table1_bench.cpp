@@ -10,6 +10,7 @@
 //                [--sweep_particles=N] [--judge=PARTICLE_STEPS]
 //
 // bench/run.sh runs it and bench/report.py turns the JSON into docs/PERFORMANCE.md's Table 1.
+#include "bench_main.h"
 #include "table1_methods.h"
 
 #include <benchmark/benchmark.h>
@@ -209,5 +210,5 @@ int main(int argc, char** argv) {
     registerCases(mesh, sweepCases(), options.sweep_particles, options.judge);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  return 0;
+  return dng::bench::finishReport("table1_bench");
 }

@@ -3,6 +3,7 @@
 // job system's workers: started once, spinning between frames, the calling thread taking the first
 // half itself (docs/INTEGRATION.md, "Threads"). Goal: 2 threads at least 1.8x the speed of 1 (the
 // machine's cores may be shared: read the ratio with that in mind).
+#include "bench_main.h"
 #include "city_scene.h"
 #include "dng/body_index.h"
 #include "dng/forces.h"
@@ -127,4 +128,4 @@ BENCHMARK(BM_Threads)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTim
 
 } // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return dng::bench::runBenchmarks(argc, argv, "threads_bench"); }
