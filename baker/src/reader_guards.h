@@ -18,8 +18,9 @@ BakeStatus checkPlyHeader(const std::string& path);
 
 /// kInvalidInput unless an ASCII OFF file's vertex and face counts are plain numbers the file can
 /// hold (OpenMesh reads a negative count as a huge one and keeps going) after the keyword's line, as
-/// OpenMesh reads them, each vertex starts with three finite coordinates and each face lists the
-/// vertices it claims; and unless a binary OFF's counts, vertex records and faces fit in the file
+/// OpenMesh reads them, each vertex starts with three finite coordinates (six numbers with NOFF's
+/// normal, across line ends as OpenMesh reads them) and each face lists the vertices it claims; and
+/// unless a binary OFF's counts, vertex records and faces fit in the file
 /// (OpenMesh reads as many binary faces as the count says, past the end of the file).
 BakeStatus checkOffHeader(const std::string& path);
 
