@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -310,6 +311,35 @@ TEST_F(MeshTest, BinaryPlyTypesTheReaderMisreadsAreRefused) {
   expectRefused("short_x.ply", ply("short", "uchar"),
                 "vertex property 'x' is short: OpenMesh's binary reader misreads it");
   expectRefused("double_red.ply", ply("float", "double"), "vertex property 'red' is double");
+}
+
+// OpenMesh's STL reader drops a facet whose corners are one point without a word: the loader says how
+// many facets the binary header declared against how many were kept.
+TEST_F(MeshTest, BinaryStlFacetsTheReaderDropsAreReported) {
+  const float tetra[4][3][3] = {{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}},
+                                {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}},
+                                {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+                                {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  std::string stl(80, ' ');
+  const std::uint32_t declared = 5;
+  stl.append(reinterpret_cast<const char*>(&declared), 4);
+  const auto facet = [&stl](const float corners[3][3]) {
+    const float normal[3] = {0, 0, 0};
+    const char attributes[2] = {0, 0};
+    stl.append(reinterpret_cast<const char*>(normal), sizeof normal);
+    stl.append(reinterpret_cast<const char*>(corners), 9 * sizeof(float));
+    stl.append(attributes, sizeof attributes);
+  };
+  for (const auto& corners : tetra)
+    facet(corners);
+  const float point[3][3] = {{2, 2, 2}, {2, 2, 2}, {2, 2, 2}};
+  facet(point);
+  const TriangleSoup soup = load(write("dropped.stl", stl));
+  EXPECT_EQ(soup.polygons, 4u);
+  EXPECT_EQ(checkMesh(soup).triangles, 4u);
+  const std::string said = "the STL declares 5 facets but OpenMesh kept 4";
+  EXPECT_TRUE(std::any_of(soup.reader_messages.begin(), soup.reader_messages.end(),
+                          [&](const std::string& m) { return m.find(said) != std::string::npos; }));
 }
 
 // A face's diffuse_red, diffuse_green and diffuse_blue are not colours to OpenMesh's binary reader: it

@@ -146,10 +146,11 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
     return BakeStatus::failure(BakeError::kIo, "'" + path + "': no such file");
+  long long declared_facets = -1; // a binary STL's
   const BakeStatus guarded = ext == ".ply"   ? checkPlyHeader(path)
                              : ext == ".obj" ? checkObjLines(path)
                              : ext == ".off" ? checkOffHeader(path)
-                             : ext == ".stl" ? checkStlCoordinates(path)
+                             : ext == ".stl" ? checkStlCoordinates(path, &declared_facets)
                                              : BakeStatus{};
   if (!guarded.ok()) return guarded;
   TriangleSoup soup;
@@ -168,10 +169,10 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
     const std::string why = soup.reader_messages.empty() ? "" : ": " + soup.reader_messages.front();
     return BakeStatus::failure(BakeError::kIo, "'" + path + "': OpenMesh could not read it" + why);
   }
-  const long long declared = ext == ".stl" ? declaredStlFacets(path) : -1;
-  if (declared > (long long)soup.polygons)
-    soup.reader_messages.push_back("the STL declares " + std::to_string(declared) + " facets but OpenMesh kept " +
-                                   std::to_string(soup.polygons) + " (it drops non-finite or degenerate facets)");
+  if (declared_facets > (long long)soup.polygons)
+    soup.reader_messages.push_back("the STL declares " + std::to_string(declared_facets) +
+                                   " facets but OpenMesh kept " + std::to_string(soup.polygons) +
+                                   " (it drops non-finite or degenerate facets)");
   *out_soup = std::move(soup);
   return BakeStatus::success();
 }

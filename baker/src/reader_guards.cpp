@@ -15,12 +15,28 @@ namespace baker {
 
 using namespace guard;
 
-BakeStatus checkStlCoordinates(const std::string& path) {
+namespace {
+
+// The facet count a binary STL of `size` bytes declares in its 84-byte header, read from `in`'s start;
+// -1 when the size does not match it (ASCII, or not an STL).
+long long declaredStlFacets(std::istream& in, std::uint64_t size) {
+  char header[84];
+  if (!in.read(header, sizeof header)) return -1;
+  std::uint32_t count;
+  std::memcpy(&count, header + 80, 4);
+  return size == 84 + 50 * std::uint64_t(count) ? (long long)count : -1;
+}
+
+} // namespace
+
+BakeStatus checkStlCoordinates(const std::string& path, long long* out_declared_facets) {
   const auto failure = [&](const std::string& where, const std::string& problem) {
     return BakeStatus::failure(BakeError::kInvalidInput, "'" + path + "': " + where + " " + problem);
   };
   std::ifstream in(path, std::ios::binary);
-  if (declaredStlFacets(path) >= 0) { // binary: 50-byte facets of a normal, three vertices, two bytes
+  const auto size = std::uint64_t(std::filesystem::file_size(path));
+  *out_declared_facets = declaredStlFacets(in, size);
+  if (*out_declared_facets >= 0) { // binary: 50-byte facets of a normal, three vertices, two bytes
     in.seekg(84);
     char facet[50];
     for (std::uint64_t n = 0; in.read(facet, sizeof facet); ++n) {
@@ -32,8 +48,9 @@ BakeStatus checkStlCoordinates(const std::string& path) {
     return BakeStatus::success();
   }
   char start[512] = {};
+  in.clear();
+  in.seekg(0);
   in.read(start, sizeof start);
-  const auto size = std::uint64_t(std::filesystem::file_size(path));
   if (!looksLikeText(start, std::size_t(in.gcount())) && size >= 84) { // binary, not 84 + 50 bytes per facet
     std::uint32_t count;
     std::memcpy(&count, start + 80, 4);
@@ -58,16 +75,6 @@ BakeStatus checkStlCoordinates(const std::string& path) {
   if (open_facet != 0)
     return failure("line " + std::to_string(open_facet) + ": facet", "has no 'endfacet': the file is truncated");
   return BakeStatus::success();
-}
-
-long long declaredStlFacets(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char header[84];
-  if (!in.read(header, sizeof header)) return -1;
-  std::uint32_t count;
-  std::memcpy(&count, header + 80, 4);
-  const auto size = std::uint64_t(std::filesystem::file_size(path));
-  return size == 84 + 50 * std::uint64_t(count) ? (long long)count : -1;
 }
 
 namespace {

@@ -30,12 +30,10 @@ BakeStatus checkOffHeader(const std::string& path);
 BakeStatus checkObjLines(const std::string& path);
 
 /// kInvalidInput when an STL (binary or ASCII) has a vertex coordinate that is not a finite number:
-/// OpenMesh's reader keeps it, merged with another vertex, or drops its facet.
-BakeStatus checkStlCoordinates(const std::string& path);
-
-/// The facet count a binary STL declares, or -1 for ASCII or malformed files. OpenMesh's reader
+/// OpenMesh's reader keeps it, merged with another vertex, or drops its facet. *out_declared_facets:
+/// the facet count a binary STL declares, or -1 for ASCII or malformed files; OpenMesh's reader
 /// silently drops facets it cannot use (seen: a NaN coordinate), so loadMesh compares the two.
-long long declaredStlFacets(const std::string& path);
+BakeStatus checkStlCoordinates(const std::string& path, long long* out_declared_facets);
 
 } // namespace baker
 } // namespace dng
