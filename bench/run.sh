@@ -40,6 +40,11 @@ python3 "$root/bench/report.py" "$build/field_query_bench.json" "$build/particle
 gnuplot -e "data='$build/table1_bench_sweep.dat'; out='$plot'" "$root/bench/table1_plot.gp"
 echo "bench/run.sh: running accuracy_bench" >&2
 "$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$report"
-cp "$plot" "$root/docs/images/table1_sweep.png.new" && mv "$root/docs/images/table1_sweep.png.new" "$root/docs/images/table1_sweep.png"
-cp "$report" "$root/docs/PERFORMANCE.md.new" && mv "$root/docs/PERFORMANCE.md.new" "$root/docs/PERFORMANCE.md"
+# Both copied before either is renamed over the old one, so a failed copy leaves the old pair.
+new_report="$root/docs/PERFORMANCE.md.new" new_plot="$root/docs/images/table1_sweep.png.new"
+trap 'rm -f "$new_report" "$new_plot"' EXIT
+cp "$report" "$new_report"
+cp "$plot" "$new_plot"
+mv "$new_plot" "$root/docs/images/table1_sweep.png"
+mv "$new_report" "$root/docs/PERFORMANCE.md"
 echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2

@@ -146,6 +146,25 @@ TEST_F(MeshTest, OffVerticesMaySpanLines) {
   expectRefused("comment_glued.off", "NOFF\n4 4 0\n0 0 0 0#c\n0 -1\n" + faces, "vertex 0 has fewer than 6 numbers");
   expectRefused("comment_line.off", "OFF\n4 4 0\n0 0 0\n# c\n1 0 0\n" + faces, "vertex 1 is a comment line");
   expectRefused("normal_cut.off", "NOFF\n1 0 0\n0 0 0 0 0", "vertex 0 has fewer than 6 numbers");
+  // A NUL byte fails the reader's read as a comment does; so does hex, which it reads as 0 and then
+  // fails on the "x" (strtof would have taken it whole).
+  const std::string nul("OFF\n4 4 0\n0 0 \0 0\n1 0 0\n0 1 0\n0 0 1\n", 38);
+  expectRefused("nul.off", nul + faces, "vertex 0 has a NUL byte where a number is due");
+  expectRefused("hex.off", "OFF\n4 4 0\n0x1p3 0 0\n1 0 0\n0 1 0\n0 0 1\n" + faces,
+                "vertex 0 has coordinate '0x1p3', not a finite number written in decimal");
+  expectRefused("hex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0x1p3\nf 1 2 3\n", "has coordinate '0x1p3'");
+}
+
+// An OFF file that ends before its counts do is refused: OpenMesh made each missing face from the last
+// face's numbers, copies that count again in the inside test (and 100,000 copies of one large triangle
+// took a bake 23 GB).
+TEST_F(MeshTest, TruncatedOffIsRefused) {
+  const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  expectRefused("faces.off", "OFF\n4 4 0\n" + vertices + "3 0 2 1\n3 0 1 3\n  \n",
+                "header declares 4 faces but the file ends after 2: truncated");
+  expectRefused("vertices.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n          \n",
+                "header declares 4 vertices but the file ends after 2");
+  EXPECT_EQ(checkMesh(load(write("whole.off", "OFF\n4 2 0\n" + vertices + "3 0 2 1\n3 0 1 3\n"))).triangles, 2u);
 }
 
 // A binary OFF as OpenMesh reads one: little-endian 32-bit counts, vertex records (three floats, three

@@ -28,7 +28,7 @@ const char* wordEnd(const char* at) {
 // What the guards say of a coordinate that is not a finite number: its word, cut at 24 characters.
 std::string notFinite(const char* begin, const char* end) {
   return "has coordinate '" + std::string(begin, std::min<std::size_t>(std::size_t(end - begin), 24)) +
-         "', not a finite number";
+         "', not a finite number written in decimal";
 }
 
 // A text line's first word, lower-cased (STL keywords may be upper case), and where the rest begins.
@@ -42,19 +42,17 @@ std::string firstWord(const std::string& line, const char** out_rest) {
   return word;
 }
 
-// Empty when the text at `at` starts with three coordinates, numbers read whole and finite as floats;
+// Empty when the text at `at` starts with three coordinates, whole decimal numbers finite as floats;
 // else what is wrong with them. OpenMesh's text readers take "nan" or "1e99" without a word, and its
-// STL reader keeps a NaN vertex (merged with another).
-// `count` 6: a position and a normal (NOFF), as many numbers read from the same stream.
-std::string coordinateProblem(const char* at, int count) {
-  for (int axis = 0; axis < count; ++axis) {
+// STL reader keeps a NaN vertex (merged with another). A comment may follow the last coordinate.
+std::string coordinateProblem(const char* at) {
+  for (int axis = 0; axis < 3; ++axis) {
     at = skipBlanks(at);
-    if (*at == '\0' || *at == '#')
-      return count == 3 ? "has fewer than 3 coordinates" : "has fewer than 6 numbers, its position and normal";
-    char* end = nullptr;
-    const float value = std::strtof(at, &end); // infinite when beyond a float, as the readers' floats
-    if (end == at || !(*end == '\0' || *end == '#' || blank(*end)) || !std::isfinite(value))
-      return notFinite(at, wordEnd(at));
+    if (*at == '\0' || *at == '#') return "has fewer than 3 coordinates";
+    const char* end = at;
+    while (*end != '\0' && *end != '#' && !blank(*end))
+      ++end;
+    if (!decimalNumber(at, end)) return notFinite(at, wordEnd(at));
     at = end;
   }
   return {};
@@ -75,6 +73,31 @@ bool isCount(const std::string& s) {
          std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
 }
 
+// Whether [begin, end) is a whole decimal number that is finite as a float: an optional sign, digits
+// with an optional fraction, an optional exponent. strtof alone would also take hex ("0x1p3"), which
+// a stream reads as 0 and then fails its next read on the "x": the OFF reader then reads every later
+// number wrong.
+bool decimalNumber(const char* begin, const char* end) {
+  const char* at = begin + (begin != end && (*begin == '+' || *begin == '-'));
+  const auto digits = [&at, end] {
+    const char* first = at;
+    while (at != end && std::isdigit(static_cast<unsigned char>(*at)))
+      ++at;
+    return std::size_t(at - first);
+  };
+  std::size_t mantissa = digits();
+  if (at != end && *at == '.') {
+    ++at;
+    mantissa += digits();
+  }
+  if (mantissa == 0) return false;
+  if (at != end && (*at == 'e' || *at == 'E')) {
+    at += 1 + (at + 1 != end && (at[1] == '+' || at[1] == '-'));
+    if (digits() == 0) return false;
+  }
+  return at == end && finiteNumber(begin, end);
+}
+
 // Whether the word [begin, end) is a whole number that is finite as a float.
 bool finiteNumber(const char* begin, const char* end) {
   char* stop = nullptr;
@@ -88,8 +111,8 @@ bool nextWord(std::istream& in, std::string* io_line, const char** io_at, const 
               const char** out_end) {
   for (;;) {
     const char* at = skipBlanks(*io_at);
-    if (*at != '\0') {
-      *out_begin = at, *out_end = *io_at = wordEnd(at);
+    if (at != io_line->data() + io_line->size()) { // a word, or a NUL byte: a word of its own
+      *out_begin = at, *out_end = *io_at = *at == '\0' ? at + 1 : wordEnd(at);
       return true;
     }
     if (!std::getline(in, *io_line)) return false;

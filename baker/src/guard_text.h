@@ -20,16 +20,20 @@ const char* wordEnd(const char* at);
 std::string notFinite(const char* begin, const char* end);
 /// A line's first word, lower-cased, and in *out_rest where the rest begins.
 std::string firstWord(const std::string& line, const char** out_rest);
-/// Empty when the text at `at` starts with `count` (3, or 6 for a position and a normal) finite numbers
-/// read whole as floats; else what is wrong with them.
-std::string coordinateProblem(const char* at, int count = 3);
+/// Empty when the text at `at` starts with three coordinates, each a whole decimalNumber (a comment may
+/// follow the last); else what is wrong with them.
+std::string coordinateProblem(const char* at);
 /// Whether `count` bytes are text: no control bytes but tabs and line ends.
 bool looksLikeText(const char* bytes, std::size_t count);
 /// Whether `s` is a plain count: digits only, fewer than 19.
 bool isCount(const std::string& s);
-/// Whether the word [begin, end) is a whole number that is finite as a float.
+/// Whether the word [begin, end) is a whole number that is finite as a float (strtof's syntax).
 bool finiteNumber(const char* begin, const char* end);
-/// The next word of `in` across lines, read in place in *io_line from *io_at. False at the end.
+/// Whether the word [begin, end) is a whole finite number as a stream reads one into a float: decimal,
+/// with an optional sign, fraction and exponent; no "nan", "inf" or hex.
+bool decimalNumber(const char* begin, const char* end);
+/// The next word of `in` across lines, read in place in *io_line from *io_at (which must point into
+/// *io_line, its end included). A NUL byte is a word of its own. False at the end of the file.
 bool nextWord(std::istream& in, std::string* io_line, const char** io_at, const char** out_begin, const char** out_end);
 
 } // namespace guard

@@ -172,7 +172,7 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   if (declared_facets > (long long)soup.polygons)
     soup.reader_messages.push_back("the STL declares " + std::to_string(declared_facets) +
                                    " facets but OpenMesh kept " + std::to_string(soup.polygons) +
-                                   " (it drops non-finite or degenerate facets)");
+                                   " (it drops degenerate facets)");
   *out_soup = std::move(soup);
   return BakeStatus::success();
 }

@@ -63,22 +63,24 @@ std::string offendingWord(std::istream& in, const std::string& number) {
 // What is wrong with a vertex's `count` numbers (3, or 6 with NOFF's normal), empty when nothing is.
 // OpenMesh reads them with the stream's `>>`, so across blank lines and line ends, and then the rest
 // of the last one's line apart (its colours): *io_line and *io_at are where the reading stands, and
-// the rest of the line is dropped when the vertex is read. A number must be a whole word, finite as
-// a float; a comment may follow the last one. `*out_end` is set when the file ends before the vertex.
+// the rest of the line is dropped when the vertex is read. A number must be a whole decimal word,
+// finite as a float; a comment may follow the last one. `*out_end` is set when the file ends before
+// the vertex.
 std::string vertexProblem(std::istream& in, int count, std::string* io_line, const char** io_at, bool* out_end) {
-  const std::string fewer =
+  const char* const fewer =
       count == 3 ? "has fewer than 3 coordinates" : "has fewer than 6 numbers, its position and normal";
   for (int read = 0; read < count; ++read) {
     const char *begin = nullptr, *end = nullptr;
     if (!nextWord(in, io_line, io_at, &begin, &end)) {
-      *out_end = read == 0; // no vertex at all: a short file, which OpenMesh reads as far as it goes
+      *out_end = read == 0; // the file ends before this vertex
       return read == 0 ? std::string() : fewer;
     }
-    // The reader reads "#" as a number, fails, and then reads every face's valence as the vertex
-    // count: faces times vertices of work, and no mesh.
+    // The reader reads "#" (or a NUL byte) as a number, fails, and then reads every face's valence as
+    // the vertex count: faces times vertices of work, and no mesh.
     if (*begin == '#') return read == 0 ? "is a comment line: OpenMesh's reader cannot skip it" : fewer;
+    if (*begin == '\0') return "has a NUL byte where a number is due";
     const char* number_end = std::find(begin, end, '#');
-    if (!finiteNumber(begin, number_end)) return notFinite(begin, number_end);
+    if (!decimalNumber(begin, number_end)) return notFinite(begin, number_end);
     if (number_end != end && read + 1 < count) return fewer; // the next read starts at the comment
   }
   *io_at = io_line->c_str() + io_line->size();
@@ -96,16 +98,25 @@ std::string vertexProblem(std::istream& in, int count, std::string* io_line, con
 template <class Failure>
 BakeStatus checkOffBody(std::istream& in, std::uint64_t size, std::uint64_t vertices, std::uint64_t faces, int numbers,
                         Failure failure) {
+  // A file that ends before its counts do is refused: OpenMesh's reads fail from there on, and it made
+  // each missing face from the last face's numbers (tried). A 300 kB file of one large triangle and
+  // blanks became 100,000 copies of it, which took the bake 23 GB; copies of a small face would each
+  // count again in the winding number's inside test.
+  const auto truncated = [&](const char* what, std::uint64_t declared, std::uint64_t read) {
+    return failure("header declares " + std::to_string(declared) + " " + what + " but the file ends after " +
+                   std::to_string(read) + ": truncated, or a wrong count");
+  };
   std::string line;
   const char* at = line.c_str();
-  bool file_ended = false;
-  for (std::uint64_t vertex = 0; vertex < vertices && !file_ended; ++vertex) {
+  for (std::uint64_t vertex = 0; vertex < vertices; ++vertex) {
+    bool file_ended = false;
     const std::string problem = vertexProblem(in, numbers, &line, &at, &file_ended);
+    if (file_ended) return truncated("vertices", vertices, vertex);
     if (!problem.empty()) return failure("vertex " + std::to_string(vertex) + " " + problem);
   }
   for (std::uint64_t face = 0; face < faces; ++face) {
     in >> std::ws;
-    if (in.peek() == std::char_traits<char>::eof()) break; // short: no more faces, and OpenMesh reads none
+    if (in.peek() == std::char_traits<char>::eof()) return truncated("faces", faces, face);
     const std::string valence = nextUnsigned(in);
     // At least a digit and a space per index.
     const std::uint64_t claimed = valence.empty() ? UINT64_MAX : unsignedValue(valence, size / 2);

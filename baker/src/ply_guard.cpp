@@ -106,27 +106,12 @@ std::size_t plyTypeSize(const std::string& t) {
 // (no "nan", "inf" or hex, which a stream refuses). A word the reader cannot take whole fails its
 // stream or leaves a piece for the next value, and it loses its place in the file.
 bool plyNumber(const char* begin, const char* end, const std::string& type) {
+  if (isFloatType(type)) return decimalNumber(begin, end);
   const char* at = begin + (begin != end && (*begin == '+' || *begin == '-'));
   const char* digits = at;
   while (at != end && std::isdigit(static_cast<unsigned char>(*at)))
     ++at;
-  if (!isFloatType(type)) return at != digits && at == end && at - digits <= 9;
-  std::size_t mantissa = std::size_t(at - digits);
-  if (at != end && *at == '.') {
-    const char* fraction = ++at;
-    while (at != end && std::isdigit(static_cast<unsigned char>(*at)))
-      ++at;
-    mantissa += std::size_t(at - fraction);
-  }
-  if (mantissa == 0) return false;
-  if (at != end && (*at == 'e' || *at == 'E')) {
-    at += 1 + (at + 1 != end && (at[1] == '+' || at[1] == '-'));
-    const char* exponent = at;
-    while (at != end && std::isdigit(static_cast<unsigned char>(*at)))
-      ++at;
-    if (at == exponent) return false;
-  }
-  return at == end && finiteNumber(begin, end);
+  return at != digits && at == end && at - digits <= 9;
 }
 
 // The properties OpenMesh's reader reads as numbers: a vertex's position, normal and texture
@@ -140,7 +125,8 @@ template <std::size_t N> bool named(const PlyProperty& p, const char* const (&na
 }
 
 // Whether OpenMesh's reader reads property `p` of element `e` as a colour: a vertex's colour names, and a
-// face's but the diffuse_ ones, which it takes for a property of its own and skips by their size.
+// face's but the diffuse_ ones, which it skips as properties of its own (by their size in binary files,
+// a word in ASCII ones).
 bool readAsColour(const PlyElement& e, const PlyProperty& p) {
   return (e.name == "vertex" && named(p, kColourNames)) ||
          (e.name == "face" && named(p, kColourNames) && p.name.compare(0, 8, "diffuse_") != 0);

@@ -17,8 +17,8 @@ using namespace guard;
 
 namespace {
 
-// The facet count a binary STL of `size` bytes declares in its 84-byte header, read from `in`'s start;
-// -1 when the size does not match it (ASCII, or not an STL).
+// The facet count a binary STL of `size` bytes declares in its 84-byte header, read from where `in`
+// stands (its start); -1 when the size does not match it (ASCII, or not an STL).
 long long declaredStlFacets(std::istream& in, std::uint64_t size) {
   char header[84];
   if (!in.read(header, sizeof header)) return -1;

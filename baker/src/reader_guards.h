@@ -18,8 +18,9 @@ BakeStatus checkPlyHeader(const std::string& path);
 
 /// kInvalidInput unless an ASCII OFF file's vertex and face counts are plain numbers the file can
 /// hold (OpenMesh reads a negative count as a huge one and keeps going) after the keyword's line, as
-/// OpenMesh reads them, each vertex starts with three finite coordinates (six numbers with NOFF's
-/// normal, across line ends as OpenMesh reads them) and each face lists the vertices it claims; and
+/// OpenMesh reads them, each vertex starts with three finite decimal coordinates (six numbers with
+/// NOFF's normal, across line ends as OpenMesh reads them), each face lists the vertices it claims and
+/// the file holds as many vertices and faces as it declares; and
 /// unless a binary OFF's counts, vertex records and faces fit in the file
 /// (OpenMesh reads as many binary faces as the count says, past the end of the file).
 BakeStatus checkOffHeader(const std::string& path);
@@ -30,9 +31,9 @@ BakeStatus checkOffHeader(const std::string& path);
 BakeStatus checkObjLines(const std::string& path);
 
 /// kInvalidInput when an STL (binary or ASCII) has a vertex coordinate that is not a finite number:
-/// OpenMesh's reader keeps it, merged with another vertex, or drops its facet. *out_declared_facets:
-/// the facet count a binary STL declares, or -1 for ASCII or malformed files; OpenMesh's reader
-/// silently drops facets it cannot use (seen: a NaN coordinate), so loadMesh compares the two.
+/// OpenMesh's reader keeps it, merged with another vertex, or drops its facet. *out_declared_facets
+/// (not null): the facet count a binary STL declares, or -1 for ASCII or malformed files; OpenMesh's
+/// reader silently drops facets it cannot use (degenerate ones), so loadMesh compares the two.
 BakeStatus checkStlCoordinates(const std::string& path, long long* out_declared_facets);
 
 } // namespace baker
