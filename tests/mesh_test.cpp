@@ -148,7 +148,8 @@ TEST_F(MeshTest, OffVerticesMaySpanLines) {
   expectRefused("normal_cut.off", "NOFF\n1 0 0\n0 0 0 0 0", "vertex 0 has fewer than 6 numbers");
   // A NUL byte fails the reader's read as a comment does; so does hex, which it reads as 0 and then
   // fails on the "x" (strtof would have taken it whole).
-  const std::string nul("OFF\n4 4 0\n0 0 \0 0\n1 0 0\n0 1 0\n0 0 1\n", 38);
+  const char kNul[] = "OFF\n4 4 0\n0 0 \0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string nul(kNul, sizeof kNul - 1); // with the NUL
   expectRefused("nul.off", nul + faces, "vertex 0 has a NUL byte where a number is due");
   expectRefused("hex.off", "OFF\n4 4 0\n0x1p3 0 0\n1 0 0\n0 1 0\n0 0 1\n" + faces,
                 "vertex 0 has coordinate '0x1p3', not a finite number written in decimal");
