@@ -156,16 +156,22 @@ TEST_F(MeshTest, OffVerticesMaySpanLines) {
   expectRefused("hex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0x1p3\nf 1 2 3\n", "has coordinate '0x1p3'");
 }
 
-// An OFF file that ends before its counts do is refused: OpenMesh made each missing face from the last
-// face's numbers, copies that count again in the inside test (and 100,000 copies of one large triangle
-// took a bake 23 GB).
-TEST_F(MeshTest, TruncatedOffIsRefused) {
+// An OFF or ASCII PLY file that ends before its counts do is refused: OpenMesh made each missing face
+// from the last face's numbers, copies that count again in the inside test (and 100,000 copies of one
+// large triangle took a bake 23 GB).
+TEST_F(MeshTest, TruncatedOffAndTextPlyAreRefused) {
   const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
   expectRefused("faces.off", "OFF\n4 4 0\n" + vertices + "3 0 2 1\n3 0 1 3\n  \n",
                 "header declares 4 faces but the file ends after 2: truncated");
   expectRefused("vertices.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n          \n",
                 "header declares 4 vertices but the file ends after 2");
   EXPECT_EQ(checkMesh(load(write("whole.off", "OFF\n4 2 0\n" + vertices + "3 0 2 1\n3 0 1 3\n"))).triangles, 2u);
+  // An ASCII PLY too: its reader made up one face from the last one's numbers.
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n" +
+                          vertices + "3 0 2 1\n3 0 1 3\n";
+  expectRefused("faces.ply", ply + "\n\n", "header declares 4 face elements but the file ends in face 2: truncated");
+  EXPECT_EQ(checkMesh(load(write("whole.ply", ply + "3 0 3 2\n3 1 2 3\n"))).triangles, 4u);
 }
 
 // A binary OFF as OpenMesh reads one: little-endian 32-bit counts, vertex records (three floats, three
