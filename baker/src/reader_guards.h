@@ -20,9 +20,9 @@ BakeStatus checkPlyHeader(const std::string& path);
 /// hold (OpenMesh reads a negative count as a huge one and keeps going) after the keyword's line, as
 /// OpenMesh reads them, each vertex starts with three finite decimal coordinates (six numbers with
 /// NOFF's normal, across line ends as OpenMesh reads them), each face lists the vertices it claims and
-/// the file holds as many vertices and faces as it declares; and
-/// unless a binary OFF's counts, vertex records and faces fit in the file
-/// (OpenMesh reads as many binary faces as the count says, past the end of the file).
+/// the file holds as many vertices and faces as it declares; and unless a binary OFF's counts, vertex
+/// records and faces fit in the file (OpenMesh reads as many binary faces as the count says, past the
+/// end of the file).
 BakeStatus checkOffHeader(const std::string& path);
 
 /// kInvalidInput when an OBJ face lists a vertex without its vertex index ("f /1 2 3": OpenMesh's OBJ
