@@ -5,6 +5,7 @@
 #include "dng/dng.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -388,6 +389,97 @@ static void test_flags(const dng_field* box) {
   }
 }
 
+/* Documented error paths: each call is refused before it writes anything, and what it leaves alone is
+ * checked to be as it was. */
+static void test_refusals(const dng_field* box) {
+  enum { kCount = 4 };
+  float px[kCount] = {20, 21, 22, 23}, py[kCount] = {0}, pz[kCount] = {0};
+  float vx[kCount] = {-1, -1, -1, -1}, vy[kCount] = {0}, vz[kCount] = {0};
+  float points[3 * kCount] = {0};
+  dng_sample answers[kCount];
+  const float place[12] = {1, 0, 0, 3, 0, 1, 0, 0, 0, 0, 1, 0};
+  const float not_finite[12] = {1, 0, 0, NAN, 0, 1, 0, 0, 0, 0, 1, 0};
+  float lo[3], hi[3];
+  char message[256], tiny[4];
+  dng_scene* scene = NULL;
+  dng_material material;
+  dng_particles particles;
+  uint32_t body = 0;
+  int i, kept = 0;
+
+  /* A count whose span at these strides wraps around the address space, and bad strides: nothing
+   * written. (A real count and stride would have read and written past the arrays.) */
+  memset(answers, 0x5A, sizeof answers);
+  CHECK(dng_field_sample_batch(box, points, 12, SIZE_MAX / 12 + 1, answers, sizeof(dng_sample), 0) ==
+        DNG_INVALID_ARGUMENT);
+  CHECK(dng_field_sample_batch(box, points, 12, SIZE_MAX / sizeof(dng_sample) + 1, answers, sizeof(dng_sample), 0) ==
+        DNG_INVALID_ARGUMENT);
+  CHECK(dng_field_sample_batch(box, points, 14, kCount, answers, sizeof(dng_sample), 0) == DNG_INVALID_ARGUMENT);
+  for (i = 0; i < (int)sizeof answers; ++i)
+    kept += ((const unsigned char*)answers)[i] == 0x5A;
+  CHECK(kept == (int)sizeof answers);
+
+  CHECK(dng_field_verify(NULL, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  CHECK(strstr(message, "NULL") != NULL);
+  CHECK(dng_scene_create(NULL) == DNG_INVALID_ARGUMENT);
+  CHECK(strcmp(dng_status_string(-1), "unknown status") == 0);
+
+  CHECK(dng_scene_create(&scene) == DNG_OK);
+  dng_material_default(&material);
+  CHECK(dng_scene_add_body(scene, box, &material, &body, message, sizeof message) == DNG_OK);
+  CHECK(dng_scene_set_transform(scene, body, place, message, sizeof message) == DNG_OK);
+  /* A refused transform keeps the previous one; a message cut to the capacity stays NUL-terminated. */
+  memset(tiny, 'x', sizeof tiny);
+  CHECK(dng_scene_set_transform(scene, body, not_finite, tiny, 3) == DNG_INVALID_ARGUMENT);
+  CHECK(tiny[2] == '\0' && strlen(tiny) == 2 && tiny[3] == 'x');
+  CHECK(dng_scene_body_bounds(scene, body, lo, hi) == DNG_OK);
+  CHECK(lo[0] == -9.0f && hi[0] == 15.0f && lo[1] == -12.0f);
+
+  /* The step refuses a span that cannot be memory, and a stride that is not whole floats, leaving every
+   * particle as it was. */
+  particles.position_x = px, particles.position_y = py, particles.position_z = pz;
+  particles.velocity_x = vx, particles.velocity_y = vy, particles.velocity_z = vz;
+  particles.position_stride = particles.velocity_stride = sizeof(float);
+  particles.out_contact = NULL;
+  particles.out_body = NULL;
+  particles.count = SIZE_MAX / 4 + 1;
+  CHECK(dng_scene_step(scene, &particles, 0.1f, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  CHECK(strstr(message, "fit in memory") != NULL);
+  particles.count = kCount;
+  particles.velocity_stride = 6;
+  CHECK(dng_scene_step(scene, &particles, 0.1f, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  kept = 0;
+  for (i = 0; i < kCount; ++i)
+    kept += px[i] == 20.0f + (float)i && vx[i] == -1.0f;
+  CHECK(kept == kCount);
+  dng_scene_destroy(scene);
+}
+
+/* A body at rest scaled past about 1e18: its reach's length overflows a float, which must not make the
+ * scene unsteppable (it did: 0 spin times an infinite reach read as a motion that is not finite). */
+static void test_huge_resting_body(const dng_field* box) {
+  const float huge[12] = {1e18f, 0, 0, 0, 0, 1e18f, 0, 0, 0, 0, 1e18f, 0};
+  float x = 3e19f, y = 0.0f, z = 0.0f, vx = -1.0f, vy = 0.0f, vz = 0.0f;
+  char message[256];
+  dng_scene* scene = NULL;
+  dng_material material;
+  dng_particles particles;
+  uint32_t body = 0;
+  CHECK(dng_scene_create(&scene) == DNG_OK);
+  dng_material_default(&material);
+  CHECK(dng_scene_add_body(scene, box, &material, &body, message, sizeof message) == DNG_OK);
+  CHECK(dng_scene_set_transform(scene, body, huge, message, sizeof message) == DNG_OK);
+  CHECK(dng_scene_prepare_step(scene, 1.0f / 60.0f, message, sizeof message) == DNG_OK);
+  particles.position_x = &x, particles.position_y = &y, particles.position_z = &z;
+  particles.velocity_x = &vx, particles.velocity_y = &vy, particles.velocity_z = &vz;
+  particles.position_stride = particles.velocity_stride = sizeof(float);
+  particles.count = 1;
+  particles.out_contact = NULL;
+  particles.out_body = NULL;
+  CHECK(dng_scene_step(scene, &particles, 1.0f / 60.0f, message, sizeof message) == DNG_OK);
+  dng_scene_destroy(scene);
+}
+
 int main(void) {
   char message[256];
   dng_field* box = NULL;
@@ -404,6 +496,8 @@ int main(void) {
   test_stepping(box);
   test_scene_queries(box);
   test_scene_broadphase(box);
+  test_refusals(box);
+  test_huge_resting_body(box);
   dng_field_close(box);
   printf("c_api_test: %d passed, %d failed\n", checks - failures, failures);
   return failures == 0 ? 0 : 1;

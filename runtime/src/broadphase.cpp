@@ -22,7 +22,11 @@ float bodyTravel(const Body& body, float dt) {
   const Vec3f lo = body.boundsMin() - body.translation(), hi = body.boundsMax() - body.translation();
   const Vec3f far{maxOf(std::fabs(lo.x), std::fabs(hi.x)), maxOf(std::fabs(lo.y), std::fabs(hi.y)),
                   maxOf(std::fabs(lo.z), std::fabs(hi.z))};
-  return (length(body.linearVelocity()) + length(body.angularVelocity()) * length(far)) * dt;
+  // Without spin the reach does not count: a body scaled past about 1e18 has a reach whose length
+  // overflows, and 0 * inf would make a resting body's travel NaN (and its scene unsteppable).
+  const float spin = length(body.angularVelocity());
+  const float turn = spin == 0.0f ? 0.0f : spin * length(far);
+  return (length(body.linearVelocity()) + turn) * dt;
 }
 
 // What the index reads of a body besides its field: transform and velocities (its box follows from the

@@ -1,8 +1,9 @@
 // The C ABI (dng/dng.h) over the C++ runtime: versions, fields and materials (scenes are in
-// c_api_scene.cpp). Handles are heap objects made at open/create time; nothing else allocates. No
-// exception can leave: the only throwing operation (vector growth in dng_scene_add_body) is caught and
-// reported as DNG_OUT_OF_MEMORY.
+// c_api_scene.cpp). Handles are heap objects made at open/create time; besides them only
+// dng_scene_add_body (the body arrays) and dng_scene_prepare_step (the broadphase) allocate. No exception
+// can leave: both catch std::bad_alloc (BodyIndex::rebuild inside) and report DNG_OUT_OF_MEMORY.
 #include "c_api_internal.h"
+#include "strided.h"
 
 #include "dng/format/layout.h"
 
@@ -126,7 +127,8 @@ dng_sample dng_field_sample(const dng_field* field, float x, float y, float z, u
 dng_status dng_field_sample_batch(const dng_field* field, const float* points, size_t point_stride, size_t count,
                                   dng_sample* out_samples, size_t sample_stride, uint32_t interpolation) {
   if (field == nullptr || (count > 0 && (points == nullptr || out_samples == nullptr)) || point_stride < 12 ||
-      point_stride % 4 != 0 || sample_stride < sizeof(dng_sample) || sample_stride % 4 != 0)
+      point_stride % 4 != 0 || sample_stride < sizeof(dng_sample) || sample_stride % 4 != 0 ||
+      !dng::spanFits(count, point_stride) || !dng::spanFits(count, sample_stride))
     return DNG_INVALID_ARGUMENT;
   constexpr std::size_t kChunk = 64;
   dng::Sample chunk[kChunk];

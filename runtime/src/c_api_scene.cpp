@@ -3,6 +3,7 @@
 // dng_scene_create, dng_scene_add_body and dng_scene_prepare_step allocate.
 #include "c_api_internal.h"
 
+#include <algorithm>
 #include <new>
 
 namespace {
@@ -50,14 +51,19 @@ void syncActive(dng_scene* scene, std::uint32_t index) {
   if (slot >= 0) scene->active[std::size_t(slot)] = scene->bodies[index];
 }
 
-// Room for one more body in every array, so that later rebuilds cannot allocate.
+// Room for one more body in every array, so that later rebuilds cannot allocate. The room doubles when
+// it runs out: reserving one more each time copied every body on every add (40,000 adds took 49 s).
 void reserveOneMore(dng_scene* scene) {
   const std::size_t n = scene->bodies.size() + 1;
-  scene->bodies.reserve(n);
-  scene->enabled.reserve(n);
-  scene->active_slot.reserve(n);
-  scene->active.reserve(n);
-  scene->active_body.reserve(n);
+  if (n <= scene->bodies.capacity() && n <= scene->enabled.capacity() && n <= scene->active_slot.capacity() &&
+      n <= scene->active.capacity() && n <= scene->active_body.capacity())
+    return;
+  const std::size_t room = std::max(n, 2 * scene->bodies.size());
+  scene->bodies.reserve(room);
+  scene->enabled.reserve(room);
+  scene->active_slot.reserve(room);
+  scene->active.reserve(room);
+  scene->active_body.reserve(room);
 }
 
 } // namespace
@@ -86,10 +92,13 @@ dng_status dng_scene_add_body(dng_scene* scene, const dng_field* field, const dn
   } catch (const std::bad_alloc&) {
     return fail(dng::Status::kOutOfMemory, "out of memory", out_message, capacity);
   }
+  // The new body takes the last index, so it goes last in the packed list too: no repacking.
+  scene->index_fresh = false;
+  scene->active_slot.push_back(std::int32_t(scene->active.size()));
+  scene->active.push_back(body);
+  scene->active_body.push_back(std::uint32_t(scene->bodies.size()));
   scene->bodies.push_back(body);
   scene->enabled.push_back(1);
-  scene->active_slot.push_back(-1);
-  rebuildActive(scene);
   *out_index = uint32_t(scene->bodies.size() - 1);
   return report(dng::Status::kOk, diag, out_message, capacity);
 }

@@ -20,6 +20,9 @@ Status checkSpan(const ParticleSpan& s, float dt, bool reads_positions, Diagnost
     return writeDiagnostic(diag, Status::kInvalidArgument, "this force reads positions: they must not be null");
   if (!validStride(s.velocity_stride) || (reads_positions && !validStride(s.position_stride)))
     return writeDiagnostic(diag, Status::kInvalidArgument, "particle strides must be whole floats, at least 4 bytes");
+  if (!spanFits(s.count, s.velocity_stride) || (reads_positions && !spanFits(s.count, s.position_stride)))
+    return writeDiagnostic(diag, Status::kInvalidArgument, "%zu particles at these strides do not fit in memory",
+                           s.count);
   return Status::kOk;
 }
 

@@ -284,6 +284,10 @@ Status checkStep(const ParticleSpan& s, float dt, const Body* bodies, std::size_
     return writeDiagnostic(diag, Status::kInvalidArgument,
                            "particle strides must be whole floats, at least 4 bytes (got %zu and %zu)",
                            s.position_stride, s.velocity_stride);
+  if (!spanFits(s.count, s.position_stride) || !spanFits(s.count, s.velocity_stride))
+    return writeDiagnostic(diag, Status::kInvalidArgument,
+                           "%zu particles at strides of %zu and %zu bytes do not fit in memory", s.count,
+                           s.position_stride, s.velocity_stride);
   return Status::kOk;
 }
 

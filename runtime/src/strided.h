@@ -15,6 +15,12 @@ inline bool validStride(std::size_t stride_bytes) {
   return stride_bytes >= sizeof(float) && stride_bytes % sizeof(float) == 0;
 }
 
+/// Whether `count` elements `stride_bytes` apart fit in the address space (a larger count cannot describe
+/// a caller's array, and its last offset would wrap around).
+inline bool spanFits(std::size_t count, std::size_t stride_bytes) {
+  return stride_bytes == 0 || count <= SIZE_MAX / stride_bytes;
+}
+
 inline float& strided(float* base, std::size_t stride_bytes, std::size_t n) {
   return *reinterpret_cast<float*>(reinterpret_cast<unsigned char*>(base) + n * stride_bytes);
 }

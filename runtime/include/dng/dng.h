@@ -103,7 +103,7 @@ DNG_API dng_status dng_field_open_file(const char* path, dng_field** out_field, 
 /** Validates caller-owned bytes (8-byte aligned) without copying; they must outlive the field. */
 DNG_API dng_status dng_field_open_memory(const void* bytes, size_t size, dng_field** out_field, char* out_message,
                                          size_t message_capacity);
-/** Recomputes every section hash (the full check, O(file size)). */
+/** Recomputes every section hash (the full check, O(file size)). DNG_INVALID_ARGUMENT for a NULL field. */
 DNG_API dng_status dng_field_verify(const dng_field* field, char* out_message, size_t message_capacity);
 /** Frees a field; NULL is allowed. Close bodies' scenes first. */
 DNG_API void dng_field_close(dng_field* field);
@@ -112,9 +112,9 @@ DNG_API dng_sample dng_field_sample(const dng_field* field, float x, float y, fl
 
 /** Samples `count` points: point n is three floats at byte offset n * point_stride from `points`
  *  (stride >= 12), its answer is written at byte offset n * sample_stride from `out_samples` (stride >=
- *  sizeof(dng_sample); both strides multiples of 4). Rejects a NULL field or pointer (when count > 0)
- *  and short or unaligned strides with DNG_INVALID_ARGUMENT before writing anything. Thread-safe, no
- *  allocation. */
+ *  sizeof(dng_sample); both strides multiples of 4). Rejects a NULL field or pointer (when count > 0),
+ *  short or unaligned strides and a count whose span would not fit in memory with DNG_INVALID_ARGUMENT
+ *  before writing anything. Thread-safe, no allocation. */
 DNG_API dng_status dng_field_sample_batch(const dng_field* field, const float* points, size_t point_stride,
                                           size_t count, dng_sample* out_samples, size_t sample_stride,
                                           uint32_t interpolation);
@@ -206,10 +206,10 @@ DNG_API dng_status dng_scene_set_material(dng_scene* scene, uint32_t body, const
 /** Number of bodies in the scene (enabled or not); 0 for NULL. Body indices run from 0 to count - 1. */
 DNG_API uint32_t dng_scene_body_count(const dng_scene* scene);
 /** Removes a body. The last body takes its index (indices stay 0..count-1); every other index is
- *  unchanged. DNG_INVALID_ARGUMENT for a NULL scene or an index out of range. No allocation. */
+ *  unchanged. DNG_INVALID_ARGUMENT for a NULL scene or an index out of range. No allocation; O(bodies). */
 DNG_API dng_status dng_scene_remove_body(dng_scene* scene, uint32_t body);
 /** A disabled body keeps its index, transform, velocity and material but is skipped by dng_scene_step.
- *  Bodies start enabled. DNG_INVALID_ARGUMENT for a NULL scene or an index out of range. */
+ *  Bodies start enabled. DNG_INVALID_ARGUMENT for a NULL scene or an index out of range. O(bodies). */
 DNG_API dng_status dng_scene_set_body_enabled(dng_scene* scene, uint32_t body, int32_t enabled);
 /** 1 when the body is enabled, 0 when disabled, -1 for a NULL scene or an index out of range. */
 DNG_API int32_t dng_scene_body_enabled(const dng_scene* scene, uint32_t body);
@@ -222,7 +222,8 @@ DNG_API dng_status dng_scene_body_bounds(const dng_scene* scene, uint32_t body, 
  *  For testing spawn points. */
 DNG_API int32_t dng_scene_body_proves_outside(const dng_scene* scene, uint32_t body, const float point[3]);
 
-/** Mirrors dng::ParticleSpan: strides in bytes; out_contact and out_body may be NULL. */
+/** Mirrors dng::ParticleSpan: strides in bytes. out_contact and out_body may be NULL; when set they are
+ *  packed arrays of count elements (no stride), element n for particle n. */
 typedef struct dng_particles {
   float* position_x;
   float* position_y;
@@ -242,12 +243,16 @@ typedef struct dng_particles {
  *  and before stepping (on one thread, before the step fans out). It stays in use until the scene
  *  changes (any set_*, add, remove or enable call) or a step asks for another dt; meanwhile steps test
  *  every enabled body, with the same results. May allocate: DNG_OUT_OF_MEMORY; DNG_INVALID_ARGUMENT for
- *  a NULL scene or dt not finite and > 0. */
+ *  a NULL scene, dt not finite and > 0, or an enabled body whose velocities give no finite motion over
+ *  dt. */
 DNG_API dng_status dng_scene_prepare_step(dng_scene* scene, float dt, char* out_message, size_t message_capacity);
 
 /** One step of dt seconds for every particle against every enabled body of the scene
  *  (dng::stepParticles), through the broadphase when dng_scene_prepare_step built it for this scene
- *  and dt. out_body receives scene body indices. */
+ *  and dt. out_body receives scene body indices. DNG_INVALID_ARGUMENT, before any particle is touched,
+ *  for a NULL scene or particle array (count > 0), dt not finite and > 0, strides that are not whole
+ *  floats or whose span would not fit in memory, and an enabled body whose velocities give no finite
+ *  motion over dt. No allocation. */
 DNG_API dng_status dng_scene_step(const dng_scene* scene, const dng_particles* particles, float dt, char* out_message,
                                   size_t message_capacity);
 
