@@ -65,7 +65,7 @@ def bake_section(path):
             ms[b["run_name"].split("/iterations")[0]] = (b["real_time"], b.get("label", ""))
     print("\n## Baking (bench/bake_bench.cpp)\n")
     print("The Stanford bunny (`bunny00.off`, 75,408 triangles, from Debian's libcgal-demo): the whole bake (load, "
-          "checks, distance, sign, normals, bricked encoding, write) against OpenVDB's `meshToLevelSet` alone at the "
+          "checks, distance, sign, normals, conservative planes and their checks, bricked encoding, write) against OpenVDB's `meshToLevelSet` alone at the "
           "same voxel size and band, on the same mesh, in one run. Resolution 512 runs twice (median of 2), the rest "
           "5 times.\n")
     print("| bake | ms (wall) | vs meshToLevelSet at the same resolution |")
@@ -158,20 +158,23 @@ def table1_section(path, table_mesh="fandisk"):
           "kernels at run time.")
     print("- **dngrid**: `dng::stepParticles` with one body (responses, then the walk that keeps particles out of "
           "the surface); *no body*: the same call with none.")
+    # The bench adds the AVX2 rows only where the best kernels are AVX-512.
+    avx512 = any(case.endswith("_avx2") for (m, k, case) in rows if m == table_mesh)
     print("- **Embree**: each step's segment `p -> p + v dt` cast at the triangles (default scene flags, high "
-          "build quality: a static mesh; denormals flushed to zero, as Embree asks, for every method), one ray at a time (`rtcIntersect1`) or in packets of 4, 8 and 16 rays; on a hit the particle "
-          "stops 0.001 voxel in front of the face and its velocity reflects with the impact rule. Embree picks its "
-          "kernels at run time too, AVX-512 here; the *AVX2 device* rows run the same on a device limited to AVX2 "
-          "(`max_isa=avx2`), the peer of dngrid's AVX2 row. *Embree best* is the fastest variant on the default "
-          "device.")
+          "build quality: a static mesh; denormals flushed to zero, as Embree asks, for every method), one ray at "
+          "a time (`rtcIntersect1`) or in packets of 4, 8 and 16 rays; on a hit the particle stops 0.001 voxel in "
+          "front of the face and its velocity reflects with the impact rule. Embree picks its kernels at run time "
+          "too" + ("" if not avx512 else ", AVX-512 here; the *AVX2 device* rows run the same on a device limited "
+                   "to AVX2 (`max_isa=avx2`), the peer of dngrid's AVX2 row") +
+          ". *Embree best* is the fastest variant on the default device.")
     print("- **NanoVDB**: distance at the particle and a normal from the gradient (central differences of the "
           "nearest voxel's 6 neighbours, or the trilinear field's gradient), the impact rule, `p += v dt`.\n")
-    print("*Crossings*: after the timed runs the same simulation is replayed untimed and every step's segment, "
-          "from before to after the method's move, is tested against the original triangles with Embree; a "
+    print("*Crossings*: before the timed runs, a copy of the warmed-up simulation they start from is stepped "
+          "untimed and every step's segment, from before to after the method's move, is tested against the original triangles with Embree; a "
           "segment that meets any triangle counts. *Memory*: the mapped `.dng`, baked with `--no-lift` (the step "
           "never reads the LIFT section, which adds about a third for accurate queries; the normal-blur bakes "
-          "carry their SHAD section, which the responses read, and every bake its second bounds, PLN2, which the "
-          "walk reads beside edges); Embree's vertex, index and BVH "
+          "carry their SHAD section, which the responses read, and the bricked bakes of clean solids their second "
+          "bounds, PLN2, which the walk reads beside edges: dense files and the decimated dragons below have none); Embree's vertex, index and BVH "
           "allocations as its memory-monitor callback reported them; the NanoVDB grid buffer. Particles (24 bytes "
           "each) come on top for every method.\n")
     header = "| method |" + "".join(" ns/particle-step (%s) | vs no collision | vs Embree best |" % format(n, ",")
@@ -219,8 +222,11 @@ def table1_section(path, table_mesh="fandisk"):
     if (table_mesh, n, "dngrid_bricked_exact_flow") in rows:
         exact = r("dngrid_bricked_exact_flow")
         print("\nThe same step through an exact-mode bake (`dngbake --mode exact`): %.1f ns, %.2fx faster than "
-              "Embree's best and %.1fx the no-collision loop. Exact normals make tighter planes beside sharp edges, "
-              "so fewer particles need the walk's neighbour bound; the blurred modes give smoother normals for "
+              "Embree's best and %.1fx the no-collision loop. Both bakes walk the same planes (docs/FORMAT.md §5.4); "
+              "the exact one has no SHAD section, so each response takes its normal from the voxel word it has "
+              "already loaded instead of gathering and decoding a shading normal, and more of its tiles are plane "
+              "tiles, a blurred tile becoming one only when its shading normals fit the plane too (fandisk at "
+              "resolution 128, `dngdump`: 177 plane tiles against 87). The blurred modes give smoother normals for "
               "drag and flow (docs/BAKING.md)." % (exact, best["ns"] / exact, exact / r("plain")))
     if (table_mesh, n, "dngrid_bricked_flow_avx2") in rows:
         avx2 = r("dngrid_bricked_flow_avx2")
@@ -273,7 +279,7 @@ def table1_section(path, table_mesh="fandisk"):
           "does not ask would). In a profile (perf, cpu-clock) the scalar walk takes about 6% of the step's "
           "time and the lanes' second-bound lookups, one lane at a time, about 4%. Pairs of second planes "
           "(beside concave creases) are stepped in lanes; handed over, they had been about 60% of the scalar "
-          "walks and 0.7% of particle-steps. On the sweep's detailed meshes 2-4% of particle-steps are handed "
+          "walks, when 0.7% of particle-steps were handed over. On the sweep's detailed meshes 2-4% of particle-steps are handed "
           "over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and the scalar walks "
           "take up to about 40% of the time (dragon_res4: a third of their cycles on spawn points never proven "
           "outside, and the 26-sample neighbour bound about a fifth of the step; a swarm of nothing but blocked "
@@ -327,7 +333,8 @@ def table1_section(path, table_mesh="fandisk"):
               "as many segments judged) the same step takes %.1f to %.1f ns, at most %.0f%% from their median "
               "(the peers were not run from these spawns, so the table compares them with the other columns' "
               "spawns only). The difference is the spawn points the field cannot prove outside: each is blocked "
-              "where it spawns and handed to the scalar walk every step it lives." % (low, high, 100 * worst))
+              "where it spawns, and every step it lives the lanes take its neighbour bound and hand the stop to the "
+              "scalar code, which settles it without walking." % (low, high, 100 * worst))
     if all((m, sweep_n, "dngrid_bricked_exact_flow") in rows for m in meshes):
         low, high, worst = spread("dngrid_bricked_exact_flow")
         ratios = [embree_best(rows, m, sweep_n)[1]["ns"] / rows[(m, sweep_n, "dngrid_bricked_exact_flow")]["ns"]
@@ -409,7 +416,8 @@ def threads_section(path):
     with open(path) as f:
         context = json.load(f)["context"]
     print("\n## Threads (bench/threads_bench.cpp)\n")
-    print("The city's step (above) through one shared `BodyIndex`: 1 thread on all 100,000 raindrops against 2 "
+    print("The city's step (above, without the per-frame rebuild: the index is built once, untimed, and shared "
+          "read-only): 1 thread on all 100,000 raindrops against 2 "
           "threads on the two halves. The threads are a minimal job system's workers, started once and spinning "
           "between frames, the calling thread taking the first half itself; each iteration steps 8 consecutive "
           "frames from the same start, so each half stays in its worker's cache as in a game (%d CPUs; "
@@ -478,11 +486,11 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     got = m["BM_Sample/1/0/0/0"][0]
     print("\n**Goal (issue #2): bricked nearest, coherent points, at most %.0f ns per query. Measured: %.1f ns, %s.**"
           % (goal_ns, got, "reached" if got <= goal_ns else "not reached"))
-    print("The batch runs in SIMD lanes (32 points per chunk with AVX-512, 16 with AVX2), two chunks of points "
-          "at a time so that their chains of dependent gathers (brick-top entry, then pool word) overlap. Packed "
+    print("The batch runs in SIMD lanes (32 points per chunk with AVX-512, 16 with AVX2); the nearest query takes "
+          "two chunks of points at a time so that their chains of dependent gathers (brick-top entry, then pool word) overlap. Packed "
           "`Vec3f` points and the 20-byte `Sample`s are moved in and out of the lanes with lane permutes on "
           "AVX-512; a transpose through the stack, lane by lane, had taken about 40% of the time (coherent "
-          "bricked nearest 5.9 -> 3.2 ns per query on the Intel Xeon of this page).")
+          "bricked nearest 5.9 -> 3.2 ns per query on an Intel Xeon with AVX-512).")
 
 
     if step_path:

@@ -87,8 +87,8 @@ std::vector<Case> tableCases() {
   for (const bool dense : {true, false})
     for (const Method m : {Method::kImpact, Method::kImpactDragFlow, Method::kImpactDragFlowSwept})
       cases.push_back({m, dense});
-  // The same step through an exact-mode bake: planes from the true gradient stay tighter beside sharp
-  // edges, where blurred normals leave planes that read below zero outside the surface.
+  // The same step through an exact-mode bake: the planes are the same as the default's, but it has no
+  // shading normals to gather and more plane tiles (docs/BAKING.md, "Which mode").
   cases.push_back({Method::kImpactDragFlow, false, true});
   // Where the best kernels are AVX-512, the same step with the AVX2 ones: what a CPU without AVX-512 runs.
   if (bestInstructionSet() == InstructionSet::kAvx512) cases.push_back({Method::kImpactDragFlow, false, false, true});
