@@ -26,6 +26,9 @@ static void test_versions(void) {
   CHECK(dng_version() == DNG_VERSION);
   CHECK(dng_version_compatible(DNG_VERSION) == 1);
   CHECK(dng_version_compatible(((uint32_t)(DNG_VERSION_MAJOR + 1) << 16)) == 0);
+  /* A program built against an older minor version of this major one still runs; a newer one does not. */
+  CHECK(dng_version_compatible((uint32_t)DNG_VERSION_MAJOR << 16) == 1);
+  CHECK(dng_version_compatible(((uint32_t)DNG_VERSION_MAJOR << 16) | ((uint32_t)(DNG_VERSION_MINOR + 1) << 8)) == 0);
   CHECK(strcmp(dng_status_string(DNG_TRUNCATED), "file truncated") == 0);
   CHECK(strcmp(dng_version_string(), DNG_VERSION_STRING) == 0);
 }
@@ -125,6 +128,19 @@ static void test_open_errors(void) {
     free(zeros);
   }
   CHECK(dng_field_open_file(NULL, &field, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  {
+    /* Caller memory: none, misaligned (rule V2) or empty (V3); the field stays NULL each time. */
+    unsigned char* bytes = (unsigned char*)calloc(1, 4096 + 8);
+    field = (dng_field*)&message;
+    CHECK(dng_field_open_memory(NULL, 4096, &field, message, sizeof message) == DNG_INVALID_ARGUMENT);
+    CHECK(field == NULL && strstr(message, "V2") != NULL);
+    CHECK(dng_field_open_memory(bytes + 4, 4096, &field, message, sizeof message) == DNG_INVALID_ARGUMENT);
+    CHECK(field == NULL && strstr(message, "aligned") != NULL);
+    CHECK(dng_field_open_memory(bytes, 0, &field, message, sizeof message) == DNG_TRUNCATED);
+    CHECK(field == NULL);
+    CHECK(dng_field_open_memory(bytes, 4096, NULL, message, sizeof message) == DNG_INVALID_ARGUMENT);
+    free(bytes);
+  }
 }
 
 static void test_sampling(const dng_field* box) {
@@ -399,7 +415,7 @@ static void test_refusals(const dng_field* box) {
   dng_sample answers[kCount];
   const float place[12] = {1, 0, 0, 3, 0, 1, 0, 0, 0, 0, 1, 0};
   const float not_finite[12] = {1, 0, 0, NAN, 0, 1, 0, 0, 0, 0, 1, 0};
-  float lo[3], hi[3];
+  float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   char message[256], tiny[4];
   dng_scene* scene = NULL;
   dng_material material;
@@ -426,7 +442,22 @@ static void test_refusals(const dng_field* box) {
 
   CHECK(dng_scene_create(&scene) == DNG_OK);
   dng_material_default(&material);
+  CHECK(dng_scene_add_body(NULL, box, &material, &body, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_add_body(scene, NULL, &material, &body, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_add_body(scene, box, NULL, &body, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_add_body(scene, box, &material, NULL, message, sizeof message) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_body_count(scene) == 0);
   CHECK(dng_scene_add_body(scene, box, &material, &body, message, sizeof message) == DNG_OK);
+  CHECK(dng_scene_set_velocity(scene, body, NULL, lo) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_set_velocity(scene, body, lo, NULL) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_body_bounds(scene, body, NULL, hi) == DNG_INVALID_ARGUMENT);
+  CHECK(dng_scene_body_bounds(scene, body, lo, NULL) == DNG_INVALID_ARGUMENT);
+  {
+    const float nowhere[3] = {NAN, 0.0f, 0.0f}, far_out[3] = {INFINITY, 0.0f, 0.0f};
+    CHECK(dng_scene_body_proves_outside(scene, body, nowhere) == 0);
+    CHECK(dng_scene_body_proves_outside(scene, body, far_out) == 0);
+    CHECK(dng_scene_body_proves_outside(scene, body, NULL) == -1);
+  }
   CHECK(dng_scene_set_transform(scene, body, place, message, sizeof message) == DNG_OK);
   /* A refused transform keeps the previous one; a message cut to the capacity stays NUL-terminated. */
   memset(tiny, 'x', sizeof tiny);
