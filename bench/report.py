@@ -65,8 +65,9 @@ def bake_section(path):
             ms[b["run_name"].split("/iterations")[0]] = (b["real_time"], b.get("label", ""))
     print("\n## Baking (bench/bake_bench.cpp)\n")
     print("The Stanford bunny (`bunny00.off`, 75,408 triangles, from Debian's libcgal-demo): the whole bake (load, "
-          "checks, distance, sign, normals, conservative planes and their checks, bricked encoding, write) against OpenVDB's `meshToLevelSet` alone at the "
-          "same voxel size and band, on the same mesh, in one run. Resolution 512 runs twice (median of 2), the rest "
+          "checks, distance, sign, normals, conservative planes and their checks, bricked encoding, write) against "
+          "OpenVDB's `meshToLevelSet` alone at the same voxel size and band, on the same mesh, in one run. "
+          "Resolution 512 runs twice (median of 2), the rest "
           "5 times.\n")
     print("| bake | ms (wall) | vs meshToLevelSet at the same resolution |")
     print("|---|---:|---:|")
@@ -170,12 +171,14 @@ def table1_section(path, table_mesh="fandisk"):
     print("- **NanoVDB**: distance at the particle and a normal from the gradient (central differences of the "
           "nearest voxel's 6 neighbours, or the trilinear field's gradient), the impact rule, `p += v dt`.\n")
     print("*Crossings*: before the timed runs, a copy of the warmed-up simulation they start from is stepped "
-          "untimed and every step's segment, from before to after the method's move, is tested against the original triangles with Embree; a "
-          "segment that meets any triangle counts. *Memory*: the mapped `.dng`, baked with `--no-lift` (the step "
+          "untimed and every step's segment, from before to after the method's move, is tested against the "
+          "original triangles with Embree; a segment that meets any triangle counts. *Memory*: the mapped `.dng`, "
+          "baked with `--no-lift` (the step "
           "never reads the LIFT section, which adds about a third for accurate queries; the normal-blur bakes "
           "carry their SHAD section, which the responses read, and the bricked bakes of clean solids their second "
-          "bounds, PLN2, which the walk reads beside edges: dense files and the decimated dragons below have none); Embree's vertex, index and BVH "
-          "allocations as its memory-monitor callback reported them; the NanoVDB grid buffer. Particles (24 bytes "
+          "bounds, PLN2, which the walk reads beside edges: dense files and the decimated dragons below have "
+          "none); Embree's vertex, index and BVH allocations as its memory-monitor callback reported them; the "
+          "NanoVDB grid buffer. Particles (24 bytes "
           "each) come on top for every method.\n")
     header = "| method |" + "".join(" ns/particle-step (%s) | vs no collision | vs Embree best |" % format(n, ",")
                                      for n in counts) + " crossings / segments judged | memory |"
@@ -279,8 +282,9 @@ def table1_section(path, table_mesh="fandisk"):
           "does not ask would). In a profile (perf, cpu-clock) the scalar walk takes about 6% of the step's "
           "time and the lanes' second-bound lookups, one lane at a time, about 4%. Pairs of second planes "
           "(beside concave creases) are stepped in lanes; handed over, they had been about 60% of the scalar "
-          "walks, when 0.7% of particle-steps were handed over. On the sweep's detailed meshes 2-4% of particle-steps are handed "
-          "over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and the scalar walks "
+          "walks, when 0.7% of particle-steps were handed over. On the sweep's detailed meshes 2-4% of "
+          "particle-steps are handed over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and "
+          "the scalar walks "
           "take up to about 40% of the time (dragon_res4: a third of their cycles on spawn points never proven "
           "outside, and the 26-sample neighbour bound about a fifth of the step; a swarm of nothing but blocked "
           "points cost about 320 ns per particle-step there, and 190 since the lanes take the bound at a "
@@ -417,8 +421,8 @@ def threads_section(path):
         context = json.load(f)["context"]
     print("\n## Threads (bench/threads_bench.cpp)\n")
     print("The city's step (above, without the per-frame rebuild: the index is built once, untimed, and shared "
-          "read-only): 1 thread on all 100,000 raindrops against 2 "
-          "threads on the two halves. The threads are a minimal job system's workers, started once and spinning "
+          "read-only): 1 thread on all 100,000 raindrops against 2 threads on the two halves. The threads are a "
+          "minimal job system's workers, started once and spinning "
           "between frames, the calling thread taking the first half itself; each iteration steps 8 consecutive "
           "frames from the same start, so each half stays in its worker's cache as in a game (%d CPUs; "
           "repetitions interleaved; run of %s). "
@@ -487,8 +491,9 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     print("\n**Goal (issue #2): bricked nearest, coherent points, at most %.0f ns per query. Measured: %.1f ns, %s.**"
           % (goal_ns, got, "reached" if got <= goal_ns else "not reached"))
     print("The batch runs in SIMD lanes (32 points per chunk with AVX-512, 16 with AVX2); the nearest query takes "
-          "two chunks of points at a time so that their chains of dependent gathers (brick-top entry, then pool word) overlap. Packed "
-          "`Vec3f` points and the 20-byte `Sample`s are moved in and out of the lanes with lane permutes on "
+          "two chunks of points at a time so that their chains of dependent gathers (brick-top entry, then pool "
+          "word) overlap. Packed `Vec3f` points and the 20-byte `Sample`s are moved in and out of the lanes with "
+          "lane permutes on "
           "AVX-512; a transpose through the stack, lane by lane, had taken about 40% of the time (coherent "
           "bricked nearest 5.9 -> 3.2 ns per query on an Intel Xeon with AVX-512).")
 
