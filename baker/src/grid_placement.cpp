@@ -25,6 +25,13 @@ float bandVoxels(const BakeOptions& o, float voxel) {
   return o.band_voxels;
 }
 
+// The refusal of a band (in voxels) wider than the largest grid.
+BakeStatus bandTooWide(float band) {
+  return BakeStatus::failure(BakeError::kBadOption, "--max-speed x --dt gives a band of " + shortNumber(band) +
+                                                        " voxels, more than a grid of " +
+                                                        std::to_string(kMaxBakeAxisVoxels) + " holds");
+}
+
 // The spacing of floats at the grid's farthest corner from the origin, in voxels: a grid far from the
 // origin for its voxel size (a building baked in a city's coordinates) has fewer positions per voxel.
 float positionSpacingVoxels(const format::GridGeometry& g) {
@@ -52,7 +59,9 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
   float voxel = options.voxel_size > 0.0f ? options.voxel_size : longest / float(options.resolution);
   std::uint32_t pad = 0;
   for (int round = 0; round < 3; ++round) {
-    pad = std::uint32_t(std::ceil(bandVoxels(options, voxel))) + 1;
+    const float band = bandVoxels(options, voxel);
+    if (!(band <= float(kMaxBakeAxisVoxels))) return bandTooWide(band); // before it becomes an integer
+    pad = std::uint32_t(std::ceil(band)) + 1;
     if (options.voxel_size > 0.0f) break;
     const float inner = float(options.resolution) - 2.0f * float(pad);
     if (inner < 4.0f)
@@ -67,10 +76,7 @@ BakeStatus placeGrid(const MeshReport& mesh, const BakeOptions& options, format:
     return BakeStatus::failure(BakeError::kBadOption, "the voxel size would be " + shortNumber(voxel) +
                                                           ", below OpenVDB's smallest (" + shortNumber(kMinVoxelSize) +
                                                           "): bake in smaller units (--units, --scale)");
-  if (!(band <= float(kMaxBakeAxisVoxels)))
-    return BakeStatus::failure(BakeError::kBadOption, "--max-speed x --dt gives a band of " + shortNumber(band) +
-                                                          " voxels, more than a grid of " +
-                                                          std::to_string(kMaxBakeAxisVoxels) + " holds");
+  if (!(band <= float(kMaxBakeAxisVoxels))) return bandTooWide(band);
   format::GridGeometry g;
   g.voxel_size = voxel;
   g.band = band * voxel;
