@@ -176,9 +176,21 @@ struct HandedBound {
   const StartBound* bound = nullptr;
 };
 
-// Walks the world move start -> end through every colliding body near it, in each body's frame.
+bool moves(const Body& body) {
+  const Vec3f v = body.linearVelocity(), w = body.angularVelocity();
+  return v.x != 0.0f || v.y != 0.0f || v.z != 0.0f || w.x != 0.0f || w.y != 0.0f || w.z != 0.0f;
+}
+
+// Which bodies firstStop walks through: every colliding one, or the moving ones only; either way not `skip`.
+struct Through {
+  std::int32_t skip = -1;
+  bool moving_only = false;
+};
+
+// Walks the world move start -> end through the colliding bodies near it that `through` names, in each
+// body's frame.
 Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start, Vec3f end,
-               const KeptSamples* kept, HandedBound handed = {}) {
+               const KeptSamples* kept, HandedBound handed = {}, Through through = {}) {
   Stop first;
   // The box segmentNearBounds tests, so the broadphase lists every body the test can pass (the lanes
   // compute the same box: span_lanes.h).
@@ -186,7 +198,7 @@ Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& mo
   const Vec3f hi{maxOf(start.x, end.x), maxOf(start.y, end.y), maxOf(start.z, end.z)};
   near.forEach(lo, hi, BodyBox::kGrown, [&](std::size_t b) {
     const Body& body = bodies[b];
-    if (!collides(body)) return;
+    if (!collides(body) || std::int32_t(b) == through.skip || (through.moving_only && !moves(body))) return;
     BodyMotion scratch;
     const BodyMotion& motion = motions.get(b, &scratch);
     if (!segmentNearBounds(body, start, end, motion.travel)) return;
@@ -220,8 +232,42 @@ Vec3f bounce(const Body& body, const Pose& end_pose, const Stop& stop, Vec3f vel
   return relative + surface;
 }
 
+// Where a plane stopped the move from `from` to `to`, the rest of the move without its part into
+// the plane (a particle's slide along the surface that stopped it).
+Vec3f slideAlong(const BodyMotions& motions, Vec3f from, Vec3f to, const Stop& stop) {
+  BodyMotion scratch;
+  const Vec3f n = motions.get(std::size_t(stop.body), &scratch).end.rotateToWorld(stop.walk.normal);
+  const Vec3f rest = (to - from) * (1.0f - stop.t);
+  return stop.position + rest - n * minOf(dot(rest, n), 0.0f);
+}
+
+// Another body may arrive where a stop left the particle: the stop is where the particle is at the
+// end of the step, but each body's walk only saw the particle's own move, and a body that keeps moving
+// after the stop (a ball rolling along the ground that stopped a particle ahead of it) would end the
+// step over it. So the move to the stop is walked again through the other moving bodies. One that
+// blocks it pushes the particle to its own surface and bounces it as a stop does; the push, from the
+// stop to there, must be clear of every other body, or slide along the plane that blocks it. A
+// particle crushed between two bodies closing in has no place outside both: it stays with the pusher.
+void resolvePinch(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start,
+                  std::int32_t stopped_by, ParticleState* io, Touch* io_touch) {
+  // A body at rest arrives nowhere; a static scene pays one box test per nearby body here.
+  const Stop pusher = firstStop(bodies, near, motions, start, io->position, nullptr, {}, {stopped_by, true});
+  if (pusher.body < 0) return;
+  BodyMotion scratch;
+  const Pose& pose = motions.get(std::size_t(pusher.body), &scratch).end;
+  io->velocity = bounce(bodies[pusher.body], pose, pusher, io->velocity);
+  io_touch->record(std::size_t(pusher.body), 0.0f);
+  const Vec3f from = io->position;
+  io->position = pusher.position;
+  const Stop blocked = firstStop(bodies, near, motions, from, pusher.position, nullptr, {}, {pusher.body});
+  if (blocked.body < 0 || blocked.walk.stop != WalkStop::kPlane) return;
+  const Vec3f slid = slideAlong(motions, from, pusher.position, blocked);
+  if (firstStop(bodies, near, motions, from, slid, nullptr, {}, {pusher.body}).body < 0) io->position = slid;
+}
+
 // The particle's move from `start` to `end` that `stop` ends: it stays there, bounces off the stop
-// and, off a plane, slides along it.
+// and, off a plane, slides along it where no body is in the way; where another body arrives at the
+// stop, it is pushed out of that body's way (resolvePinch).
 void settle(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start, Vec3f end,
             const Stop& stop, ParticleState* io, Touch* io_touch) {
   const Body& body = bodies[stop.body];
@@ -239,13 +285,16 @@ void settle(const Body* bodies, const NearBodies& near, const BodyMotions& motio
     io->position = start;
   io->velocity = bounce(body, pose, stop, io->velocity);
   io_touch->record(std::size_t(stop.body), 0.0f);
-  if (stop.walk.stop != WalkStop::kPlane) return;
-  // Slide: the rest of the move without its part into the plane, kept only when the straight path
-  // from the start is clear too (a particle's step is the segment between its two positions).
-  const Vec3f n = pose.rotateToWorld(stop.walk.normal);
-  const Vec3f rest = (end - start) * (1.0f - stop.t);
-  const Vec3f slid = stop.position + rest - n * minOf(dot(rest, n), 0.0f);
-  if (firstStop(bodies, near, motions, start, slid, nullptr).body < 0) io->position = slid;
+  if (stop.walk.stop == WalkStop::kPlane) {
+    // Slide, kept only when the straight path from the start is clear too (a particle's step is the
+    // segment between its two positions).
+    const Vec3f slid = slideAlong(motions, start, end, stop);
+    if (firstStop(bodies, near, motions, start, slid, nullptr).body < 0) {
+      io->position = slid;
+      return; // clear through every body
+    }
+  }
+  resolvePinch(bodies, near, motions, start, stop.body, io, io_touch);
 }
 
 // Moves the particle by v dt without crossing any colliding body.
