@@ -83,7 +83,7 @@ cmd_clang() {
   run_tests "$ROOT/build/clang"
 }
 
-# Built with clang: it compiles the instrumented build in about 70% of GCC's time, and CI must stay short.
+# Built with clang: it compiles the instrumented build in about three quarters of GCC's time (CI must stay short).
 cmd_asan() {
   deps
   install_packages clang
