@@ -176,12 +176,8 @@ struct HandedBound {
   const StartBound* bound = nullptr;
 };
 
-bool moves(const Body& body) {
-  const Vec3f v = body.linearVelocity(), w = body.angularVelocity();
-  return v.x != 0.0f || v.y != 0.0f || v.z != 0.0f || w.x != 0.0f || w.y != 0.0f || w.z != 0.0f;
-}
-
-// Which bodies firstStop walks through: every colliding one, or the moving ones only; either way not `skip`.
+// Which bodies firstStop walks through: every colliding one, or the moving ones only (a travel over the
+// step above zero); either way not `skip`.
 struct Through {
   std::int32_t skip = -1;
   bool moving_only = false;
@@ -198,9 +194,10 @@ Stop firstStop(const Body* bodies, const NearBodies& near, const BodyMotions& mo
   const Vec3f hi{maxOf(start.x, end.x), maxOf(start.y, end.y), maxOf(start.z, end.z)};
   near.forEach(lo, hi, BodyBox::kGrown, [&](std::size_t b) {
     const Body& body = bodies[b];
-    if (!collides(body) || std::int32_t(b) == through.skip || (through.moving_only && !moves(body))) return;
+    if (!collides(body) || std::int32_t(b) == through.skip) return;
     BodyMotion scratch;
     const BodyMotion& motion = motions.get(b, &scratch);
+    if (through.moving_only && !(motion.travel > 0.0f)) return;
     if (!segmentNearBounds(body, start, end, motion.travel)) return;
     const Vec3f a = body.toLocal(start);
     const Pose& end_pose = motion.end;
@@ -250,7 +247,7 @@ Vec3f slideAlong(const BodyMotions& motions, Vec3f from, Vec3f to, const Stop& s
 // particle crushed between two bodies closing in has no place outside both: it stays with the pusher.
 void resolvePinch(const Body* bodies, const NearBodies& near, const BodyMotions& motions, Vec3f start,
                   std::int32_t stopped_by, ParticleState* io, Touch* io_touch) {
-  // A body at rest arrives nowhere; a static scene pays one box test per nearby body here.
+  // A body at rest arrives nowhere: a static scene pays a look at each nearby body's travel here.
   const Stop pusher = firstStop(bodies, near, motions, start, io->position, nullptr, {}, {stopped_by, true});
   if (pusher.body < 0) return;
   BodyMotion scratch;
