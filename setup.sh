@@ -22,12 +22,15 @@
 #   bash setup.sh fuzz-assimp [SECONDS]  fuzz assimp's readers in process, open-ended (default 300 s)
 #
 # Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
+# DNG_CCACHE=ON compiles through ccache (installed if missing), cached in build/ccache: build trees
+# that compile the same sources with the same flags share their objects (CI sets it).
 # Every command installs what it needs first; running it twice does no extra work.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 JOBS="${DNG_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 WERROR="${DNG_WERROR:-OFF}"
+CCACHE="${DNG_CCACHE:-OFF}"
 
 # Debian 12 packages. Build tools first, then the runtime's test libraries, then the baker's.
 PACKAGES_BUILD=(cmake ninja-build g++ pkg-config clang-format bc)
@@ -56,9 +59,20 @@ install_packages() {
 
 deps() { install_packages "${PACKAGES_BUILD[@]}" "${PACKAGES_TEST[@]}" "${PACKAGES_BAKER[@]}"; }
 
+# With DNG_CCACHE=ON: the compiler launcher for every build tree configured from here on. Paths under the
+# source tree are hashed relative to the build directory, so build/release and build/demo (the same
+# depth) share the objects they compile alike.
+use_ccache() {
+  [ "$CCACHE" = ON ] || return 0
+  install_packages ccache
+  export CCACHE_DIR="${CCACHE_DIR:-$ROOT/build/ccache}" CCACHE_BASEDIR="$ROOT"
+  export CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache
+}
+
 # configure_and_build <build-dir> [cmake args...]
 configure_and_build() {
   local dir="$1"; shift
+  use_ccache
   cmake -S "$ROOT" -B "$dir" -G Ninja -DDNG_WERROR="$WERROR" "$@" >/dev/null
   cmake --build "$dir" --parallel "$JOBS"
 }
