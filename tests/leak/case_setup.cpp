@@ -110,7 +110,7 @@ void placeBody(const CaseSetup& setup, float t, Body* body) {
   const Vec3f axis = omega > 0.0f ? setup.angular * (1.0f / omega) : Vec3f{0, 0, 1};
   const float half = 0.5f * omega * t;
   const float q[4] = {std::cos(half), axis.x * std::sin(half), axis.y * std::sin(half), axis.z * std::sin(half)};
-  (void)body->setTransform(setup.linear * t, q, setup.scale);
+  (void)body->setTransform(setup.position + setup.linear * t, q, setup.scale);
   body->setVelocity(setup.linear, setup.angular);
 }
 

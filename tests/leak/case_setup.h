@@ -12,6 +12,7 @@ namespace leak {
 struct CaseSetup {
   float scale = 1.0f;
   float design_speed = 0.0f; ///< world units per second
+  Vec3f position;            ///< where the mesh's centre is at time 0, world
   Vec3f linear;              ///< body velocity, world
   Vec3f angular;             ///< rad/s about the body origin (the mesh centre)
   Material material;
@@ -22,7 +23,8 @@ struct CaseSetup {
 
 CaseSetup makeSetup(const Subject& subject, const CaseSpec& spec);
 
-/// Places `body` (made on the subject's view) at its pose at time t, moving with the set-up's velocity.
+/// Places `body` (made on the subject's view) at its pose at time t (from `position`, turning about the
+/// mesh's centre), moving with the set-up's velocity.
 void placeBody(const CaseSetup& setup, float t, Body* body);
 
 /// The case's particles in the world at time 0 (body at its starting pose `body`), from spec.seed.

@@ -1,5 +1,6 @@
 // The full leak table (issue #10): every mesh and normal mode against every case, 20,000 particles for
-// 120 steps each, written as markdown (docs/LEAKS.md through `bash setup.sh leaks`).
+// 120 steps each, and the scenes of several bodies (scene_case.h), written as markdown (docs/LEAKS.md
+// through `bash setup.sh leaks`).
 //   leak_report MESH_DIR OUTPUT.md [PARTICLES] [STEPS]
 //   leak_report --mesh FILE [--mesh FILE ...] [--resolution N] OUTPUT.md [PARTICLES] [STEPS]
 // MESH_DIR holds bunny00.off, fandisk.off, blade.off and cheese.off. With --mesh, the same cases run on those mesh
@@ -11,6 +12,7 @@
 // is the verdict).
 #include "leak_case.h"
 #include "path_judge.h"
+#include "scene_case.h"
 #include "temp_dir.h"
 
 #include <cstdio>
@@ -115,10 +117,9 @@ std::string fixed(float value, int digits) {
 }
 
 // One table row. Open meshes have no inside: their depth columns read "-".
-std::string row(const Subject& s, const CaseSpec& spec, const CaseResult& r) {
+std::string row(const std::string& name, bool closed, const CaseResult& r) {
   std::ostringstream o;
-  const bool closed = s.mesh.closed;
-  o << "| " << spec.name << " | " << thousands(r.crossing_steps) << " | " << thousands(r.entered) << " / "
+  o << "| " << name << " | " << thousands(r.crossing_steps) << " | " << thousands(r.entered) << " / "
     << thousands(r.left) << " / " << thousands(r.through) << " | **" << thousands(r.visible_leaks) << "** | "
     << thousands(r.thin_passes) << " | " << (closed ? fixed(r.deepest, 2) : "-") << " | "
     << (closed ? fixed(r.median_depth, 3) : "-") << " | "
@@ -130,6 +131,7 @@ std::string row(const Subject& s, const CaseSpec& spec, const CaseResult& r) {
 // One subject's totals for the summary: what issue #10's goals count.
 struct Totals {
   std::string label;
+  bool scenes = false; ///< no swept or control runs: those columns read "-"
   unsigned long long design_crossings = 0, design_visible = 0, design_at_end = 0, swept_crossings = 0,
                      control_crossings = 0;
 
@@ -138,16 +140,18 @@ struct Totals {
       control_crossings += r.crossing_steps;
     else if (spec.swept)
       swept_crossings += r.crossing_steps;
-    else {
-      design_crossings += r.crossing_steps;
-      design_visible += r.visible_leaks;
-      design_at_end += r.inside_at_end + r.other_side_at_end;
-    }
+    else
+      addDesign(r);
+  }
+  void addDesign(const CaseResult& r) {
+    design_crossings += r.crossing_steps;
+    design_visible += r.visible_leaks;
+    design_at_end += r.inside_at_end + r.other_side_at_end;
   }
   std::string row() const {
     return "| " + label + " | " + thousands(design_crossings) + " | **" + thousands(design_visible) + "** | **" +
-           thousands(design_at_end) + "** | **" + thousands(swept_crossings) + "** | " + thousands(control_crossings) +
-           " |\n";
+           thousands(design_at_end) + "** | " + (scenes ? "-" : "**" + thousands(swept_crossings) + "**") + " | " +
+           (scenes ? "-" : thousands(control_crossings)) + " |\n";
   }
 };
 
@@ -217,6 +221,49 @@ triangles, stopped a thousandth of a voxel short of the first hit and reflected)
 crossings, or the harness is wrong.
 )";
 
+const char* kScenesTitle = R"(
+## Several bodies
+
+Scenes of several bodies moving at once (tests/leak/scene_case.cpp): the same particles judged every
+step against each body's own triangles in that body's frame, the counts summed over the bodies. Boxes
+made in code: a ground 120 x 26 x 4 units and a wall 2 x 26 x 12 (voxels of 1 unit), crates 8 units wide
+(voxels of 0.4, guaranteed reach 1.4 units: they set those scenes' design speed); and fandisk on a
+ground box of its own, measured in fandisk's voxels. Speeds are fractions of the slowest body's design
+speed; where a body must stop 1 unit short of another, its start follows from its speed, and each scene
+runs the steps its motion is laid out for (30 to 60; the STEPS argument does not apply). Resting
+particles start 0.15 unit above the crates' ground (half a voxel above fandisk's), under gravity; thrown
+ones at random directions with speeds up to 0.3 design speed. A particle that a moving body pushes
+bounces off it and may meet another body faster than the design speed: those steps count as *too
+fast*. Impact with restitution 0.5 and collision distance 0.1 voxel on every body.
+)";
+
+// The scenes in `fandisk`'s mode: a table and a summary row.
+bool addScenes(const Subject& fandisk, const dng::testing::TempDir& folder, long particles, std::ostringstream* md,
+               std::vector<Totals>* totals) {
+  std::string error;
+  const auto set = SceneSet::make(fandisk, folder.path().string(), &error);
+  if (!set) {
+    std::fprintf(stderr, "leak_report: %s\n", error.c_str());
+    return false;
+  }
+  const std::string mode = dng::baker::normalModeName(fandisk.mode);
+  totals->push_back({"scenes of several bodies, " + mode, true});
+  *md << "\n### " << mode
+      << "\n\n| scene | crossings | entered / left / through | visible leaks | thin passes | "
+         "deepest (voxel) | median (voxel) | inside at end | contacts | too fast |\n"
+      << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (SceneSpec scene : set->scenes()) {
+    scene.particles = std::size_t(particles);
+    const CaseResult r = runScene(scene);
+    std::fprintf(stderr, "leak_report: scene, %s, %s: %llu crossings, %llu visible (%.1f s)\n", mode.c_str(),
+                 scene.name.c_str(), (unsigned long long)r.crossing_steps, (unsigned long long)r.visible_leaks,
+                 r.seconds);
+    *md << row(scene.name, true, r);
+    totals->back().addDesign(r);
+  }
+  return true;
+}
+
 // A whole number from 1 to 10^8, the whole of `text`.
 bool positiveCount(const std::string& text, long* out) {
   char* end = nullptr;
@@ -271,8 +318,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   dng::testing::TempDir folder("leak_report");
-  std::ostringstream md;
-  std::vector<Totals> totals;
+  std::ostringstream md, scenes_md;
+  std::vector<Totals> totals, scene_totals;
   for (const Entry& entry : entries) {
     const LeakMesh& mesh = entry.mesh;
     const auto subject = bakeSubject(mesh, entry.mode, folder.path().string(), &error, int(resolution));
@@ -295,9 +342,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "leak_report: %s, %s: %llu crossings, %llu visible (%.1f s)\n", subject->label().c_str(),
                    c.name.c_str(), (unsigned long long)r.crossing_steps, (unsigned long long)r.visible_leaks,
                    r.seconds);
-      md << row(*subject, c, r);
+      md << row(c.name, mesh.closed, r);
       totals.back().add(c, r);
     }
+    // The scenes of several bodies, in fandisk's modes, in the standard table only.
+    if (meshes.empty() && mesh.name == "fandisk" && !addScenes(*subject, folder, particles, &scenes_md, &scene_totals))
+      return 1;
   }
   std::ofstream out(output);
   std::string method = kMethod;
@@ -307,13 +357,18 @@ int main(int argc, char** argv) {
       << thousands(static_cast<unsigned long long>(particles)) << " particles, " << steps
       << " steps of 0.016 s per case.\n";
   out << "\n## Summary\n\nThe goals of issue #10 are 0 in the bold columns. *Design speed*: the seven dngrid cases "
-         "above the swept ones (static, drag + flow, spring, translating, spinning, scaled, resting); *at end*: "
+         "above the swept ones (static, drag + flow, spring, translating, spinning, scaled, resting), and for the "
+         "scenes of several "
+         "bodies every scene; *at end*: "
          "particles inside deeper than 0.05 voxel, or on the other side of an open sheet.\n\n";
   out << "| mesh | crossings at design speed | visible leaks | at end | swept 10x crossings | control crossings |\n";
   out << "|---|---:|---:|---:|---:|---:|\n";
   for (const Totals& t : totals)
     out << t.row();
+  for (const Totals& t : scene_totals)
+    out << t.row();
   out << md.str();
+  if (!scenes_md.str().empty()) out << kScenesTitle << scenes_md.str();
   out.close(); // the last buffer is written here, and may fail here
   if (!out) {
     std::fprintf(stderr, "leak_report: cannot write %s\n", output.c_str());

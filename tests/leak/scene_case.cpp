@@ -1,0 +1,222 @@
+#include "scene_case.h"
+
+#include "case_setup.h"
+#include "dng/forces.h"
+#include "swarm_judge.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace dng {
+namespace leak {
+
+namespace {
+
+// Particles resting on a floor start this far above it, in its voxels (as the single-body resting cases).
+constexpr float kRestingHeight = 0.15f;
+// Gravity's gain over a 120-step run, in design speeds: the single-body cases' figures.
+constexpr float kRestingGain = 0.5f, kThrownGain = 0.1f;
+
+Vec3f downward(float gain, float design_speed) { return {0.0f, 0.0f, -gain * design_speed / (120.0f * kDt)}; }
+
+// Outside every body (at its pose in `bodies`) and at least 0.1 of its voxel from its surface.
+bool clearOfBodies(const SceneSpec& spec, const std::vector<Body>& bodies, Vec3f p) {
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const Subject& s = *spec.bodies[b].subject;
+    const Vec3f local = bodies[b].toLocal(p);
+    if (s.mesh.closed && s.reference.inside(local)) return false;
+    const reference::Closest c = s.reference.closest(local, 0.1f * s.voxel);
+    if (c.found && c.distance < 0.1f * s.voxel) return false;
+  }
+  return true;
+}
+
+testing::Swarm spawnSwarm(const SceneSpec& spec, const std::vector<Body>& bodies) {
+  std::mt19937 rng(spec.seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::normal_distribution<float> gauss(0.0f, 1.0f);
+  const Vec3f lo = spec.spawn_lo, extent = spec.spawn_hi - spec.spawn_lo;
+  testing::Swarm swarm;
+  while (swarm.size() < spec.particles) {
+    const Vec3f p = lo + Vec3f{extent.x * unit(rng), extent.y * unit(rng), extent.z * unit(rng)};
+    if (!clearOfBodies(spec, bodies, p)) continue;
+    const Vec3f direction = normalizeOrZero({gauss(rng), gauss(rng), gauss(rng)});
+    swarm.add(p, direction * (spec.spawn_speed * (0.2f + 0.8f * unit(rng))));
+  }
+  return swarm;
+}
+
+// The box's bounds: code-made boxes are centred on the origin.
+void bounds(const Subject& s, Vec3f* lo, Vec3f* hi) {
+  *lo = *hi = s.mesh.mesh.vertices.front();
+  for (const Vec3f& v : s.mesh.mesh.vertices) {
+    *lo = {std::min(lo->x, v.x), std::min(lo->y, v.y), std::min(lo->z, v.z)};
+    *hi = {std::max(hi->x, v.x), std::max(hi->y, v.y), std::max(hi->z, v.z)};
+  }
+}
+
+// A closed box centred on the origin, baked at `resolution`.
+std::unique_ptr<Subject> bakeBox(const std::string& name, Vec3f half, int resolution, baker::NormalMode mode,
+                                 const std::string& folder, std::string* out_error) {
+  return bakeSubject({name, testing::boxMesh({0, 0, 0}, half), true}, mode, folder, out_error, resolution);
+}
+
+} // namespace
+
+float designSpeed(const std::vector<SceneBody>& bodies) {
+  float slowest = std::numeric_limits<float>::infinity();
+  for (const SceneBody& b : bodies)
+    slowest = std::min(slowest, b.subject->reach / kDt);
+  return slowest;
+}
+
+CaseResult runScene(const SceneSpec& spec) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t count = spec.bodies.size();
+  CaseSpec materials;
+  materials.responses = spec.responses;
+  std::vector<CaseSetup> setups;
+  std::vector<Body> before(count);
+  for (std::size_t b = 0; b < count; ++b) {
+    const SceneBody& body = spec.bodies[b];
+    CaseSetup setup = makeSetup(*body.subject, materials);
+    setup.position = body.position, setup.linear = body.linear, setup.angular = body.angular;
+    (void)Body::create(&body.subject->file.view(), setup.material, &before[b]);
+    placeBody(setup, 0.0f, &before[b]);
+    setups.push_back(setup);
+  }
+  std::vector<Body> after = before;
+  testing::Swarm swarm = spawnSwarm(spec, before);
+  std::vector<std::unique_ptr<SwarmJudge>> judges;
+  for (std::size_t b = 0; b < count; ++b)
+    judges.push_back(std::make_unique<SwarmJudge>(*spec.bodies[b].subject, before[b], swarm));
+
+  CaseResult result;
+  for (int k = 0; k < spec.steps; ++k) {
+    for (std::size_t b = 0; b < count; ++b) {
+      placeBody(setups[b], float(k) * kDt, &before[b]);
+      placeBody(setups[b], float(k + 1) * kDt, &after[b]);
+      result.fast_steps += countFast(*spec.bodies[b].subject, before[b], setups[b].speed_limit, swarm);
+    }
+    (void)applyGravity(swarm.span(), spec.gravity, kDt);
+    result.contacts += stepInParallel(before.data(), count, kDt, &swarm);
+    for (std::size_t b = 0; b < count; ++b)
+      judges[b]->judgeStep(after[b], swarm);
+  }
+  std::vector<float> depths;
+  for (const auto& judge : judges)
+    judge->addTo(&result, &depths);
+  setMedianDepth(&depths, &result);
+  result.particle_steps = std::uint64_t(swarm.size()) * std::uint64_t(spec.steps);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+std::unique_ptr<SceneSet> SceneSet::make(const Subject& fandisk, const std::string& folder, std::string* out_error) {
+  std::unique_ptr<SceneSet> set(new SceneSet);
+  const baker::NormalMode mode = fandisk.mode;
+  // Voxels of one unit for the ground and the wall (their longest sides plus the band's padding), about
+  // 0.4 for the crates, which set the scenes' design speed.
+  if (!(set->ground_ = bakeBox("scene ground", {60, 13, 2}, 132, mode, folder, out_error)) ||
+      !(set->crate_ = bakeBox("scene crate", {4, 4, 4}, 32, mode, folder, out_error)) ||
+      !(set->wall_ = bakeBox("scene wall", {1, 13, 6}, 38, mode, folder, out_error)))
+    return nullptr;
+  const float h = fandisk.voxel;
+  set->fandisk_ground_ = bakeSubject(
+      {"scene fandisk ground", testing::boxMesh({0, 0, 0}, {120 * h, 60 * h, 10 * h}), true}, mode, folder, out_error);
+  if (!set->fandisk_ground_) return nullptr;
+  set->addCrateScenes();
+  set->addFandiskScenes(fandisk);
+  return set;
+}
+
+// Crates 8 units wide (voxels of 0.4 unit) on a ground 120 x 26 x 4 (voxels of 1) whose top is at z = 2. The crates
+// rest flush on the ground, so the particles resting on it lie in their way. Each moves for a number of steps at a
+// fraction of the design speed v, and its start follows from where it must end.
+void SceneSet::addCrateScenes() {
+  const Subject *ground = ground_.get(), *crate = crate_.get(), *wall = wall_.get();
+  const float top = 2.0f, on_ground = top + 4.0f, rest = top + kRestingHeight;
+  const float v = designSpeed({{ground}, {crate}, {wall}});
+  const Vec3f resting = downward(kRestingGain, v);
+  const auto travel = [&](float fraction, int steps) { return fraction * v * float(steps) * kDt; };
+
+  SceneSpec slide("a crate slides along the ground into resting particles (0.5 design speed)");
+  const float slid = travel(0.5f, slide.steps);
+  slide.bodies = {{ground}, {crate, {-40, 0, on_ground}, {0.5f * v, 0, 0}}};
+  slide.spawn_lo = {-34, -3.5f, rest}, slide.spawn_hi = {-36 + slid, 3.5f, rest};
+  slide.gravity = resting;
+  scenes_.push_back(slide);
+
+  // The wall stands on the ground with its face at x = 40; the crate's front ends at x = 39.
+  SceneSpec into_wall("a crate pushes resting particles into a wall, stopping 1 unit short (0.4 design speed)");
+  const float start = 35.0f - travel(0.4f, into_wall.steps);
+  into_wall.bodies = {{ground}, {wall, {41, 0, top + 6}}, {crate, {start, 0, on_ground}, {0.4f * v, 0, 0}}};
+  into_wall.spawn_lo = {start + 6, -3.5f, rest}, into_wall.spawn_hi = {39.5f, 3.5f, rest};
+  into_wall.gravity = resting;
+  scenes_.push_back(into_wall);
+
+  // Their fronts end 1 unit apart, at x = -0.5 and 0.5.
+  SceneSpec close("two crates close in on resting particles, stopping 1 unit apart (0.4 design speed each)");
+  close.steps = 45;
+  const float from = 4.5f + travel(0.4f, close.steps);
+  close.bodies = {
+      {ground}, {crate, {-from, 0, on_ground}, {0.4f * v, 0, 0}}, {crate, {from, 0, on_ground}, {-0.4f * v, 0, 0}}};
+  close.spawn_lo = {6 - from, -3.5f, rest}, close.spawn_hi = {from - 6, 3.5f, rest};
+  close.gravity = resting;
+  scenes_.push_back(close);
+
+  // No ground: the crates fly past each other with a 1-unit gap between their sides at y = +-0.5.
+  SceneSpec pass("two crates pass each other 1 unit apart through thrown particles (0.5 design speed each)");
+  const float half_way = 0.5f * travel(0.5f, pass.steps);
+  pass.bodies = {{crate, {-half_way, -4.5f, 0}, {0.5f * v, 0, 0}}, {crate, {half_way, 4.5f, 0}, {-0.5f * v, 0, 0}}};
+  pass.spawn_lo = {-0.5f * half_way, -0.4f, -4}, pass.spawn_hi = {0.5f * half_way, 0.4f, 4};
+  pass.spawn_speed = 0.3f * v;
+  pass.gravity = downward(kThrownGain, v);
+  scenes_.push_back(pass);
+
+  SceneSpec down("a crate comes down onto resting particles, stopping 1 unit above the ground (0.4 design speed)");
+  down.steps = 30;
+  down.bodies = {{ground}, {crate, {0, 0, on_ground + 1 + travel(0.4f, down.steps)}, {0, 0, -0.4f * v}}};
+  down.spawn_lo = {-3.5f, -3.5f, rest}, down.spawn_hi = {3.5f, 3.5f, rest};
+  down.gravity = resting;
+  scenes_.push_back(down);
+}
+
+// fandisk (its voxel h) with a ground box 240 x 120 x 20 voxels of its own.
+void SceneSet::addFandiskScenes(const Subject& fandisk) {
+  const Subject* ground = fandisk_ground_.get();
+  const float h = fandisk.voxel;
+  Vec3f lo, hi;
+  bounds(fandisk, &lo, &hi);
+  const float v = designSpeed({{ground}, {&fandisk}});
+
+  // Sunk 3 voxels into the ground: particles are only where fandisk meets the ground's top.
+  const float top = lo.z + 3.0f * h;
+  float y0 = hi.y, y1 = lo.y;
+  for (const Vec3f& p : fandisk.mesh.mesh.vertices)
+    if (p.z < top + h) y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  SceneSpec slide("fandisk, sunk 3 voxels into a ground, slides into resting particles (0.5 design speed)");
+  slide.bodies = {{ground, {0, 0, top - 10 * h}}, {&fandisk, {0, 0, 0}, {0.5f * v, 0, 0}}};
+  slide.spawn_lo = {hi.x + h, y0, top + 0.5f * h}, slide.spawn_hi = {hi.x + 40 * h, y1, top + 0.5f * h};
+  slide.gravity = downward(0.2f, v); // lighter: the particles lie on the ground longer as fandisk arrives
+  slide.steps = 30;
+  scenes_.push_back(slide);
+
+  // Spinning about the vertical through its centre, its farthest point at half the design speed.
+  float radius = 0.0f;
+  for (const Vec3f& p : fandisk.mesh.mesh.vertices)
+    radius = std::max(radius, std::hypot(p.x, p.y));
+  SceneSpec spin("fandisk spins 1 voxel above a ground through thrown particles");
+  spin.bodies = {{ground, {0, 0, lo.z - 11 * h}}, {&fandisk, {0, 0, 0}, {}, {0, 0, 0.5f * v / radius}}};
+  const Vec3f pad{fandisk.reach, fandisk.reach, fandisk.reach};
+  spin.spawn_lo = lo - pad, spin.spawn_hi = hi + pad;
+  spin.spawn_speed = 0.3f * v;
+  spin.gravity = downward(kThrownGain, v);
+  scenes_.push_back(spin);
+}
+
+} // namespace leak
+} // namespace dng
