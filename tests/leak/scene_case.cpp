@@ -183,6 +183,16 @@ void SceneSet::addCrateScenes() {
   down.spawn_lo = {-3.5f, -3.5f, rest}, down.spawn_hi = {3.5f, 3.5f, rest};
   down.gravity = resting;
   scenes_.push_back(down);
+
+  // Rolling about y: its edges (5.66 units from its centre) sweep the ground 0.05 unit above it, under
+  // the particles resting there, at up to half the design speed (a quarter from the turn, a quarter
+  // from the roll).
+  SceneSpec tumble("a crate tumbles along the ground, its edges sweeping 0.05 unit above it under resting particles");
+  const float edge = std::sqrt(32.0f);
+  tumble.bodies = {{ground}, {crate, {-40, 0, top + edge + 0.05f}, {0.25f * v, 0, 0}, {0, 0.25f * v / edge, 0}}};
+  tumble.spawn_lo = {-40 + edge, -3.5f, rest}, tumble.spawn_hi = {-40 + edge + travel(0.25f, tumble.steps), 3.5f, rest};
+  tumble.gravity = resting;
+  scenes_.push_back(tumble);
 }
 
 // fandisk (its voxel h) with a ground box 240 x 120 x 20 voxels of its own.

@@ -52,7 +52,8 @@ float designSpeed(const std::vector<SceneBody>& bodies);
 CaseResult runScene(const SceneSpec& spec);
 
 /// The standard scenes of docs/LEAKS.md, in one normal mode: boxes made in code (a ground, crates, a
-/// wall) and fandisk on a ground, sliding, closing in, passing each other, coming down and spinning.
+/// wall) and fandisk on a ground, sliding, closing in, passing each other, coming down, tumbling and
+/// spinning.
 class SceneSet {
 public:
   /// Bakes the code-made bodies in fandisk's mode (mesh files go to `folder`, which must exist).
