@@ -15,9 +15,11 @@
 #include "scene_case.h"
 #include "temp_dir.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -224,45 +226,77 @@ crossings, or the harness is wrong.
 const char* kScenesTitle = R"(
 ## Several bodies
 
-Scenes of several bodies moving at once (tests/leak/scene_case.cpp): the same particles judged every
-step against each body's own triangles in that body's frame, the counts summed over the bodies. Boxes
-made in code: a ground 120 x 26 x 4 units and a wall 2 x 26 x 12 (voxels of 1 unit), crates 8 units wide
-(voxels of 0.4, guaranteed reach 1.4 units: they set those scenes' design speed); and fandisk on a
-ground box of its own, measured in fandisk's voxels. Speeds are fractions of the slowest body's design
+Scenes of several bodies moving at once (tests/leak/scene_case.cpp): the same particles judged every step
+against each body's own triangles in that body's frame, the counts summed over the bodies. Boxes made in
+code: a ground 120 x 26 x 4 units and a wall 2 x 26 x 12 (voxels of 1 unit), crates 8 units wide (voxels
+of 0.4, guaranteed reach 1.4 units: they set those scenes' design speed); and bunny and fandisk, each on
+a ground box of its own, measured in its own voxels. Speeds are fractions of the slowest body's design
 speed; where a body must stop 1 unit short of another, its start follows from its speed, and each scene
 runs the steps its motion is laid out for (30 to 60; the STEPS argument does not apply). Resting
-particles start 0.15 unit above the crates' ground (half a voxel above fandisk's), under gravity; thrown
-ones at random directions with speeds up to 0.3 design speed. A particle that a moving body pushes
-bounces off it and may meet another body faster than the design speed: those steps count as *too
-fast*. Impact with restitution 0.5 and collision distance 0.1 voxel on every body.
+particles start 0.15 unit above the crates' ground (half a voxel above the meshes'), under gravity;
+thrown ones at random directions with speeds up to 0.3 design speed. A particle that a moving body pushes
+bounces off it and may meet another body faster than the design speed: those steps count as *too fast*.
+Impact with restitution 0.5 and collision distance 0.1 voxel on every body.
 )";
 
-// The scenes in `fandisk`'s mode: a table and a summary row.
-bool addScenes(const Subject& fandisk, const dng::testing::TempDir& folder, long particles, std::ostringstream* md,
-               std::vector<Totals>* totals) {
-  std::string error;
-  const auto set = SceneSet::make(fandisk, folder.path().string(), &error);
-  if (!set) {
+// The scenes of several bodies: a table and a summary row per normal mode, in the order the modes come.
+class SceneTables {
+public:
+  /// Runs the boxes' scenes the first time `subject`'s mode comes, then the scenes around `subject`.
+  bool add(const Subject& subject, const dng::testing::TempDir& folder, long particles) {
+    const std::string mode = dng::baker::normalModeName(subject.mode);
+    std::string error;
+    if (std::find(modes_.begin(), modes_.end(), mode) == modes_.end()) {
+      modes_.push_back(mode);
+      totals_[mode] = {"scenes of several bodies, " + mode, true};
+      const auto boxes = SceneSet::boxes(subject.mode, folder.path().string(), &error);
+      if (!boxes) return fail(error);
+      run(*boxes, mode, particles);
+    }
+    const auto around = SceneSet::aroundMesh(subject, folder.path().string(), &error);
+    if (!around) return fail(error);
+    run(*around, mode, particles);
+    return true;
+  }
+
+  void writeTotals(std::ostream& out) const {
+    for (const std::string& mode : modes_)
+      out << totals_.at(mode).row();
+  }
+
+  void writeTables(std::ostream& out) const {
+    if (modes_.empty()) return;
+    out << kScenesTitle;
+    for (const std::string& mode : modes_)
+      out << "\n### " << mode
+          << "\n\n| scene | crossings | entered / left / through | visible leaks | thin passes | deepest (voxel) | "
+             "median (voxel) | inside at end | contacts | too fast "
+             "|\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+          << rows_.at(mode);
+  }
+
+private:
+  static bool fail(const std::string& error) {
     std::fprintf(stderr, "leak_report: %s\n", error.c_str());
     return false;
   }
-  const std::string mode = dng::baker::normalModeName(fandisk.mode);
-  totals->push_back({"scenes of several bodies, " + mode, true});
-  *md << "\n### " << mode
-      << "\n\n| scene | crossings | entered / left / through | visible leaks | thin passes | "
-         "deepest (voxel) | median (voxel) | inside at end | contacts | too fast |\n"
-      << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (SceneSpec scene : set->scenes()) {
-    scene.particles = std::size_t(particles);
-    const CaseResult r = runScene(scene);
-    std::fprintf(stderr, "leak_report: scene, %s, %s: %llu crossings, %llu visible (%.1f s)\n", mode.c_str(),
-                 scene.name.c_str(), (unsigned long long)r.crossing_steps, (unsigned long long)r.visible_leaks,
-                 r.seconds);
-    *md << row(scene.name, true, r);
-    totals->back().addDesign(r);
+
+  void run(const SceneSet& set, const std::string& mode, long particles) {
+    for (SceneSpec scene : set.scenes()) {
+      scene.particles = std::size_t(particles);
+      const CaseResult r = runScene(scene);
+      std::fprintf(stderr, "leak_report: scene, %s, %s: %llu crossings, %llu visible (%.1f s)\n", mode.c_str(),
+                   scene.name.c_str(), (unsigned long long)r.crossing_steps, (unsigned long long)r.visible_leaks,
+                   r.seconds);
+      rows_[mode] += row(scene.name, true, r);
+      totals_[mode].addDesign(r);
+    }
   }
-  return true;
-}
+
+  std::vector<std::string> modes_;
+  std::map<std::string, std::string> rows_;
+  std::map<std::string, Totals> totals_;
+};
 
 // A whole number from 1 to 10^8, the whole of `text`.
 bool positiveCount(const std::string& text, long* out) {
@@ -318,8 +352,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   dng::testing::TempDir folder("leak_report");
-  std::ostringstream md, scenes_md;
-  std::vector<Totals> totals, scene_totals;
+  std::ostringstream md;
+  std::vector<Totals> totals;
+  SceneTables scenes;
   for (const Entry& entry : entries) {
     const LeakMesh& mesh = entry.mesh;
     const auto subject = bakeSubject(mesh, entry.mode, folder.path().string(), &error, int(resolution));
@@ -346,7 +381,7 @@ int main(int argc, char** argv) {
       totals.back().add(c, r);
     }
     // The scenes of several bodies, in fandisk's modes, in the standard table only.
-    if (meshes.empty() && mesh.name == "fandisk" && !addScenes(*subject, folder, particles, &scenes_md, &scene_totals))
+    if (meshes.empty() && (mesh.name == "bunny" || mesh.name == "fandisk") && !scenes.add(*subject, folder, particles))
       return 1;
   }
   std::ofstream out(output);
@@ -365,10 +400,9 @@ int main(int argc, char** argv) {
   out << "|---|---:|---:|---:|---:|---:|\n";
   for (const Totals& t : totals)
     out << t.row();
-  for (const Totals& t : scene_totals)
-    out << t.row();
+  scenes.writeTotals(out);
   out << md.str();
-  if (!scenes_md.str().empty()) out << kScenesTitle << scenes_md.str();
+  scenes.writeTables(out);
   out.close(); // the last buffer is written here, and may fail here
   if (!out) {
     std::fprintf(stderr, "leak_report: cannot write %s\n", output.c_str());

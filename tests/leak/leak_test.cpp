@@ -384,9 +384,13 @@ TEST_F(LeakCase, ScenesOfSeveralBodiesLeakNothing) {
     const Subject* fandisk = subject("fandisk", mode);
     ASSERT_NE(fandisk, nullptr);
     std::string error;
-    const std::unique_ptr<SceneSet> set = SceneSet::make(*fandisk, folder_->path().string(), &error);
-    ASSERT_NE(set, nullptr) << error;
-    for (SceneSpec scene : set->scenes()) {
+    const std::unique_ptr<SceneSet> boxes = SceneSet::boxes(mode, folder_->path().string(), &error);
+    ASSERT_NE(boxes, nullptr) << error;
+    const std::unique_ptr<SceneSet> around = SceneSet::aroundMesh(*fandisk, folder_->path().string(), &error);
+    ASSERT_NE(around, nullptr) << error;
+    std::vector<SceneSpec> scenes = boxes->scenes();
+    scenes.insert(scenes.end(), around->scenes().begin(), around->scenes().end());
+    for (SceneSpec scene : scenes) {
       scene.particles = kParticles;
       const CaseResult r = runScene(scene);
       std::printf("  %-12s %-90s visible %llu, inside at end %zu, crossings %llu, contacts %llu, fast steps %llu, "
@@ -400,7 +404,7 @@ TEST_F(LeakCase, ScenesOfSeveralBodiesLeakNothing) {
     }
     // The control: with no response, the sliding crate runs over the particles (and they fall through
     // the ground), and the judge sees it.
-    SceneSpec control = set->scenes().front();
+    SceneSpec control = boxes->scenes().front();
     control.particles = kParticles;
     control.responses = Responses::kNone;
     EXPECT_GT(runScene(control).visible_leaks, kParticles / 20) << baker::normalModeName(mode);

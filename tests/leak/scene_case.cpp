@@ -115,29 +115,13 @@ CaseResult runScene(const SceneSpec& spec) {
   return result;
 }
 
-std::unique_ptr<SceneSet> SceneSet::make(const Subject& fandisk, const std::string& folder, std::string* out_error) {
-  std::unique_ptr<SceneSet> set(new SceneSet);
-  const baker::NormalMode mode = fandisk.mode;
-  // Voxels of one unit for the ground and the wall (their longest sides plus the band's padding), about
-  // 0.4 for the crates, which set the scenes' design speed.
-  if (!(set->ground_ = bakeBox("scene ground", {60, 13, 2}, 132, mode, folder, out_error)) ||
-      !(set->crate_ = bakeBox("scene crate", {4, 4, 4}, 32, mode, folder, out_error)) ||
-      !(set->wall_ = bakeBox("scene wall", {1, 13, 6}, 38, mode, folder, out_error)))
-    return nullptr;
-  const float h = fandisk.voxel;
-  set->fandisk_ground_ = bakeSubject(
-      {"scene fandisk ground", testing::boxMesh({0, 0, 0}, {120 * h, 60 * h, 10 * h}), true}, mode, folder, out_error);
-  if (!set->fandisk_ground_) return nullptr;
-  set->addCrateScenes();
-  set->addFandiskScenes(fandisk);
-  return set;
-}
+namespace {
 
 // Crates 8 units wide (voxels of 0.4 unit) on a ground 120 x 26 x 4 (voxels of 1) whose top is at z = 2. The crates
 // rest flush on the ground, so the particles resting on it lie in their way. Each moves for a number of steps at a
 // fraction of the design speed v, and its start follows from where it must end.
-void SceneSet::addCrateScenes() {
-  const Subject *ground = ground_.get(), *crate = crate_.get(), *wall = wall_.get();
+std::vector<SceneSpec> crateScenes(const Subject* ground, const Subject* crate, const Subject* wall) {
+  std::vector<SceneSpec> scenes;
   const float top = 2.0f, on_ground = top + 4.0f, rest = top + kRestingHeight;
   const float v = designSpeed({{ground}, {crate}, {wall}});
   const Vec3f resting = downward(kRestingGain, v);
@@ -148,7 +132,7 @@ void SceneSet::addCrateScenes() {
   slide.bodies = {{ground}, {crate, {-40, 0, on_ground}, {0.5f * v, 0, 0}}};
   slide.spawn_lo = {-34, -3.5f, rest}, slide.spawn_hi = {-36 + slid, 3.5f, rest};
   slide.gravity = resting;
-  scenes_.push_back(slide);
+  scenes.push_back(slide);
 
   // The wall stands on the ground with its face at x = 40; the crate's front ends at x = 39.
   SceneSpec into_wall("a crate pushes resting particles into a wall, stopping 1 unit short (0.4 design speed)");
@@ -156,7 +140,7 @@ void SceneSet::addCrateScenes() {
   into_wall.bodies = {{ground}, {wall, {41, 0, top + 6}}, {crate, {start, 0, on_ground}, {0.4f * v, 0, 0}}};
   into_wall.spawn_lo = {start + 6, -3.5f, rest}, into_wall.spawn_hi = {39.5f, 3.5f, rest};
   into_wall.gravity = resting;
-  scenes_.push_back(into_wall);
+  scenes.push_back(into_wall);
 
   // Their fronts end 1 unit apart, at x = -0.5 and 0.5.
   SceneSpec close("two crates close in on resting particles, stopping 1 unit apart (0.4 design speed each)");
@@ -166,7 +150,7 @@ void SceneSet::addCrateScenes() {
       {ground}, {crate, {-from, 0, on_ground}, {0.4f * v, 0, 0}}, {crate, {from, 0, on_ground}, {-0.4f * v, 0, 0}}};
   close.spawn_lo = {6 - from, -3.5f, rest}, close.spawn_hi = {from - 6, 3.5f, rest};
   close.gravity = resting;
-  scenes_.push_back(close);
+  scenes.push_back(close);
 
   // No ground: the crates fly past each other with a 1-unit gap between their sides at y = +-0.5.
   SceneSpec pass("two crates pass each other 1 unit apart through thrown particles (0.5 design speed each)");
@@ -175,14 +159,14 @@ void SceneSet::addCrateScenes() {
   pass.spawn_lo = {-0.5f * half_way, -0.4f, -4}, pass.spawn_hi = {0.5f * half_way, 0.4f, 4};
   pass.spawn_speed = 0.3f * v;
   pass.gravity = downward(kThrownGain, v);
-  scenes_.push_back(pass);
+  scenes.push_back(pass);
 
   SceneSpec down("a crate comes down onto resting particles, stopping 1 unit above the ground (0.4 design speed)");
   down.steps = 30;
   down.bodies = {{ground}, {crate, {0, 0, on_ground + 1 + travel(0.4f, down.steps)}, {0, 0, -0.4f * v}}};
   down.spawn_lo = {-3.5f, -3.5f, rest}, down.spawn_hi = {3.5f, 3.5f, rest};
   down.gravity = resting;
-  scenes_.push_back(down);
+  scenes.push_back(down);
 
   // Rolling about y: its edges (5.66 units from its centre) sweep the ground 0.05 unit above it, under
   // the particles resting there, at up to half the design speed (a quarter from the turn, a quarter
@@ -192,40 +176,72 @@ void SceneSet::addCrateScenes() {
   tumble.bodies = {{ground}, {crate, {-40, 0, top + edge + 0.05f}, {0.25f * v, 0, 0}, {0, 0.25f * v / edge, 0}}};
   tumble.spawn_lo = {-40 + edge, -3.5f, rest}, tumble.spawn_hi = {-40 + edge + travel(0.25f, tumble.steps), 3.5f, rest};
   tumble.gravity = resting;
-  scenes_.push_back(tumble);
+  scenes.push_back(tumble);
+  return scenes;
 }
 
-// fandisk (its voxel h) with a ground box 240 x 120 x 20 voxels of its own.
-void SceneSet::addFandiskScenes(const Subject& fandisk) {
-  const Subject* ground = fandisk_ground_.get();
-  const float h = fandisk.voxel;
+// A mesh (its voxel h) with a ground box 240 x 120 x 20 voxels of its own.
+std::vector<SceneSpec> meshScenes(const Subject& mesh, const Subject* ground) {
+  std::vector<SceneSpec> scenes;
+  const float h = mesh.voxel;
   Vec3f lo, hi;
-  bounds(fandisk, &lo, &hi);
-  const float v = designSpeed({{ground}, {&fandisk}});
+  bounds(mesh, &lo, &hi);
+  const float v = designSpeed({{ground}, {&mesh}});
 
-  // Sunk 3 voxels into the ground: particles are only where fandisk meets the ground's top.
+  // Sunk 3 voxels into the ground: particles are only where the mesh meets the ground's top.
   const float top = lo.z + 3.0f * h;
   float y0 = hi.y, y1 = lo.y;
-  for (const Vec3f& p : fandisk.mesh.mesh.vertices)
+  for (const Vec3f& p : mesh.mesh.mesh.vertices)
     if (p.z < top + h) y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
-  SceneSpec slide("fandisk, sunk 3 voxels into a ground, slides into resting particles (0.5 design speed)");
-  slide.bodies = {{ground, {0, 0, top - 10 * h}}, {&fandisk, {0, 0, 0}, {0.5f * v, 0, 0}}};
+  SceneSpec slide(mesh.mesh.name + ", sunk 3 voxels into a ground, slides into resting particles (0.5 design speed)");
+  slide.bodies = {{ground, {0, 0, top - 10 * h}}, {&mesh, {0, 0, 0}, {0.5f * v, 0, 0}}};
   slide.spawn_lo = {hi.x + h, y0, top + 0.5f * h}, slide.spawn_hi = {hi.x + 40 * h, y1, top + 0.5f * h};
-  slide.gravity = downward(0.2f, v); // lighter: the particles lie on the ground longer as fandisk arrives
+  slide.gravity = downward(0.2f, v); // lighter: the particles lie on the ground longer as the mesh arrives
   slide.steps = 30;
-  scenes_.push_back(slide);
+  scenes.push_back(slide);
 
   // Spinning about the vertical through its centre, its farthest point at half the design speed.
   float radius = 0.0f;
-  for (const Vec3f& p : fandisk.mesh.mesh.vertices)
+  for (const Vec3f& p : mesh.mesh.mesh.vertices)
     radius = std::max(radius, std::hypot(p.x, p.y));
-  SceneSpec spin("fandisk spins 1 voxel above a ground through thrown particles");
-  spin.bodies = {{ground, {0, 0, lo.z - 11 * h}}, {&fandisk, {0, 0, 0}, {}, {0, 0, 0.5f * v / radius}}};
-  const Vec3f pad{fandisk.reach, fandisk.reach, fandisk.reach};
+  SceneSpec spin(mesh.mesh.name + " spins 1 voxel above a ground through thrown particles");
+  spin.bodies = {{ground, {0, 0, lo.z - 11 * h}}, {&mesh, {0, 0, 0}, {}, {0, 0, 0.5f * v / radius}}};
+  const Vec3f pad{mesh.reach, mesh.reach, mesh.reach};
   spin.spawn_lo = lo - pad, spin.spawn_hi = hi + pad;
   spin.spawn_speed = 0.3f * v;
   spin.gravity = downward(kThrownGain, v);
-  scenes_.push_back(spin);
+  scenes.push_back(spin);
+  return scenes;
+}
+
+} // namespace
+
+std::unique_ptr<SceneSet> SceneSet::boxes(baker::NormalMode mode, const std::string& folder, std::string* out_error) {
+  std::unique_ptr<SceneSet> set(new SceneSet);
+  // Voxels of one unit for the ground and the wall (their longest sides plus the band's padding), 0.4
+  // for the crates, which set the scenes' design speed.
+  const struct {
+    const char* name;
+    Vec3f half;
+    int resolution;
+  } boxes[] = {{"scene ground", {60, 13, 2}, 132}, {"scene crate", {4, 4, 4}, 32}, {"scene wall", {1, 13, 6}, 38}};
+  for (const auto& box : boxes) {
+    set->bodies_.push_back(bakeBox(box.name, box.half, box.resolution, mode, folder, out_error));
+    if (!set->bodies_.back()) return nullptr;
+  }
+  set->scenes_ = crateScenes(set->bodies_[0].get(), set->bodies_[1].get(), set->bodies_[2].get());
+  return set;
+}
+
+std::unique_ptr<SceneSet> SceneSet::aroundMesh(const Subject& mesh, const std::string& folder, std::string* out_error) {
+  std::unique_ptr<SceneSet> set(new SceneSet);
+  const float h = mesh.voxel;
+  const LeakMesh ground{"scene " + mesh.mesh.name + " ground", testing::boxMesh({0, 0, 0}, {120 * h, 60 * h, 10 * h}),
+                        true};
+  set->bodies_.push_back(bakeSubject(ground, mesh.mode, folder, out_error));
+  if (!set->bodies_.back()) return nullptr;
+  set->scenes_ = meshScenes(mesh, set->bodies_.back().get());
+  return set;
 }
 
 } // namespace leak

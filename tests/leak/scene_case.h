@@ -51,23 +51,23 @@ float designSpeed(const std::vector<SceneBody>& bodies);
 /// to its surface, than that body's design speed. Deterministic for a given spec.
 CaseResult runScene(const SceneSpec& spec);
 
-/// The standard scenes of docs/LEAKS.md, in one normal mode: boxes made in code (a ground, crates, a
-/// wall) and fandisk on a ground, sliding, closing in, passing each other, coming down, tumbling and
-/// spinning.
+/// The standard scenes of docs/LEAKS.md in one normal mode, with the bodies they bake.
 class SceneSet {
 public:
-  /// Bakes the code-made bodies in fandisk's mode (mesh files go to `folder`, which must exist).
-  /// `fandisk` (fandisk.off as the harness loads it) must outlive the set. Null with *out_error on failure.
-  static std::unique_ptr<SceneSet> make(const Subject& fandisk, const std::string& folder, std::string* out_error);
+  /// Boxes made in code (a ground, crates, a wall): crates sliding, pushing particles into a wall,
+  /// closing in, passing each other, coming down and tumbling. Mesh files go to `folder`, which must
+  /// exist. Null with *out_error on failure.
+  static std::unique_ptr<SceneSet> boxes(baker::NormalMode mode, const std::string& folder, std::string* out_error);
+  /// A closed mesh, baked (`mesh`, which must outlive the set), on a ground box baked in its mode: sliding
+  /// along the ground it is sunk into, and spinning just above it.
+  static std::unique_ptr<SceneSet> aroundMesh(const Subject& mesh, const std::string& folder, std::string* out_error);
 
   const std::vector<SceneSpec>& scenes() const { return scenes_; }
 
 private:
   SceneSet() = default;
-  void addCrateScenes();
-  void addFandiskScenes(const Subject& fandisk);
 
-  std::unique_ptr<Subject> ground_, crate_, wall_, fandisk_ground_;
+  std::vector<std::unique_ptr<Subject>> bodies_; ///< the subjects the set baked
   std::vector<SceneSpec> scenes_;
 };
 
