@@ -373,12 +373,11 @@ TEST_F(LeakCase, PlateThinnerThanAVoxelIsNeverPassed) {
 }
 
 // Several bodies at once (scene_case.h): crates and fandisk sliding along a ground into resting
-// particles, pushing them into a wall, closing in on them, passing each other, coming down on them,
-// tumbling just above the ground under them, spinning beside a ground. Every body judges every step
-// on its own triangles; the particles must meet the bodies (contacts), and none may get through or
-// stay inside any of them. Without the step's pinch rule (a body arriving where another stopped a
-// particle) the crates' scenes and fandisk's slide left up to 1,836 visible leaks and 1,049 particles
-// inside in normal-blur mode.
+// particles, pushing them into a wall and into a slower crate, closing in on them, passing each other, coming down on
+// them, tumbling just above the ground under them, spinning beside a ground. Every body judges every step on its own
+// triangles; the particles must meet the bodies (contacts), and none may get through or stay inside any of them.
+// Without the step's pinch rule (a body arriving where another stopped a particle) the crates' scenes and fandisk's
+// slide left up to 1,836 visible leaks and 1,049 particles inside in normal-blur mode.
 TEST_F(LeakCase, ScenesOfSeveralBodiesLeakNothing) {
   for (baker::NormalMode mode : {baker::NormalMode::kNormalBlur, baker::NormalMode::kExact}) {
     const Subject* fandisk = subject("fandisk", mode);

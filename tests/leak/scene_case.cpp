@@ -152,6 +152,17 @@ std::vector<SceneSpec> crateScenes(const Subject* ground, const Subject* crate, 
   close.gravity = resting;
   scenes.push_back(close);
 
+  // Both move along +x; the faster one behind catches up until its front is 1 unit short of the other's
+  // back: particles it pushes meet a body that is moving too.
+  SceneSpec catch_up("a crate pushes resting particles into a slower crate ahead, stopping 1 unit behind it "
+                     "(0.6 and 0.2 design speed)");
+  const float gap = 1.0f + travel(0.4f, catch_up.steps);
+  catch_up.bodies = {
+      {ground}, {crate, {-8 - gap, 0, on_ground}, {0.6f * v, 0, 0}}, {crate, {0, 0, on_ground}, {0.2f * v, 0, 0}}};
+  catch_up.spawn_lo = {-2 - gap, -3.5f, rest}, catch_up.spawn_hi = {-4.5f, 3.5f, rest};
+  catch_up.gravity = resting;
+  scenes.push_back(catch_up);
+
   // No ground: the crates fly past each other with a 1-unit gap between their sides at y = +-0.5.
   SceneSpec pass("two crates pass each other 1 unit apart through thrown particles (0.5 design speed each)");
   const float half_way = 0.5f * travel(0.5f, pass.steps);

@@ -54,9 +54,9 @@ CaseResult runScene(const SceneSpec& spec);
 /// The standard scenes of docs/LEAKS.md in one normal mode, with the bodies they bake.
 class SceneSet {
 public:
-  /// Boxes made in code (a ground, crates, a wall): crates sliding, pushing particles into a wall,
-  /// closing in, passing each other, coming down and tumbling. Mesh files go to `folder`, which must
-  /// exist. Null with *out_error on failure.
+  /// Boxes made in code (a ground, crates, a wall): crates sliding, pushing particles into a wall and
+  /// into a slower crate, closing in, passing each other, coming down and tumbling. Mesh files go to `folder`, which
+  /// must exist. Null with *out_error on failure.
   static std::unique_ptr<SceneSet> boxes(baker::NormalMode mode, const std::string& folder, std::string* out_error);
   /// A closed mesh, baked (`mesh`, which must outlive the set), on a ground box baked in its mode: sliding
   /// along the ground it is sunk into, and spinning just above it.
