@@ -240,6 +240,20 @@ Every scene runs with each of the single-body cases' materials on every body: im
 flow, and the spring (whose rebounds are most of its *too fast* steps).
 )";
 
+// Random scenes per normal mode (SceneSet::random, seed 1), their movers at up to this many design speeds:
+// with particles thrown at up to 0.3 and gravity's 0.1, relative speeds stay within the design speed.
+constexpr int kRandomScenes = 100;
+constexpr float kRandomSpeed = 0.6f;
+
+const char* kRandomTitle =
+    R"( scenes per mode from one seed (SceneSet::random): two to four movers, 8-unit crates, rods 2
+units thick and slabs 1.5 thick (voxels of 0.4 for the crates, 1 for the rest), over a ground 120 units
+square, each sliding along it or spinning about a random axis 0.05 or 1 unit above it, at up to 0.6 times
+the design speed, their paths kept 1 unit apart; particles (half the table's count) resting on the ground
+or thrown above it at up to 0.3 design speed; impact, impact + drag + flow or spring on every body.
+Their counts summed; *scenes with a crossing*: how many of them had any.
+)";
+
 // The scenes of several bodies: a table and a summary row per normal mode, in the order the modes come.
 class SceneTables {
 public:
@@ -253,6 +267,10 @@ public:
       const auto boxes = SceneSet::boxes(subject.mode, folder.path().string(), &error);
       if (!boxes) return fail(error);
       run(*boxes, mode, particles);
+      const auto random =
+          SceneSet::random(subject.mode, kRandomScenes, 1, kRandomSpeed, folder.path().string(), &error);
+      if (!random) return fail(error);
+      runRandom(*random, mode, particles / 2);
     }
     const auto around = SceneSet::aroundMesh(subject, folder.path().string(), &error);
     if (!around) return fail(error);
@@ -268,6 +286,12 @@ public:
   void writeTables(std::ostream& out) const {
     if (modes_.empty()) return;
     out << kScenesTitle;
+    out << "\n### Random scenes\n\n"
+        << kRandomScenes << kRandomTitle
+        << "\n| mode | particle-steps | crossings | visible leaks | deepest (voxel) | inside at end | scenes with a "
+           "crossing | contacts | too fast |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const std::string& mode : modes_)
+      out << random_rows_.at(mode);
     for (const std::string& mode : modes_)
       out << "\n### " << mode
           << "\n\n| scene | crossings | entered / left / through | visible leaks | thin passes | deepest (voxel) | "
@@ -301,8 +325,29 @@ private:
     }
   }
 
+  // The random scenes of one mode, summed into one row.
+  void runRandom(const SceneSet& set, const std::string& mode, long particles) {
+    CaseResult sum;
+    int crossed = 0;
+    for (SceneSpec scene : set.scenes()) {
+      scene.particles = std::size_t(particles);
+      const CaseResult r = runScene(scene);
+      totals_[mode].addDesign(r);
+      crossed += r.crossing_steps > 0 ? 1 : 0;
+      sum.particle_steps += r.particle_steps, sum.crossing_steps += r.crossing_steps;
+      sum.visible_leaks += r.visible_leaks, sum.inside_at_end += r.inside_at_end;
+      sum.deepest = std::max(sum.deepest, r.deepest), sum.contacts += r.contacts, sum.fast_steps += r.fast_steps;
+    }
+    std::fprintf(stderr, "leak_report: %d random scenes, %s: %llu crossings, %llu visible\n", kRandomScenes,
+                 mode.c_str(), (unsigned long long)sum.crossing_steps, (unsigned long long)sum.visible_leaks);
+    random_rows_[mode] = "| " + mode + " | " + thousands(sum.particle_steps) + " | " + thousands(sum.crossing_steps) +
+                         " | **" + thousands(sum.visible_leaks) + "** | " + fixed(sum.deepest, 2) + " | **" +
+                         thousands(sum.inside_at_end) + "** | " + std::to_string(crossed) + " | " +
+                         thousands(sum.contacts) + " | " + thousands(sum.fast_steps) + " |\n";
+  }
+
   std::vector<std::string> modes_;
-  std::map<std::string, std::string> rows_;
+  std::map<std::string, std::string> rows_, random_rows_;
   std::map<std::string, Totals> totals_;
 };
 

@@ -410,6 +410,31 @@ TEST_F(LeakCase, ScenesOfSeveralBodiesLeakNothing) {
   }
 }
 
+// Random scenes of two to four boxes moving over a ground (SceneSet::random), sliding or spinning just
+// above it, among resting or thrown particles: none may get through or stay inside any body. The same
+// scenes without responses leak, so the judge sees these bodies.
+TEST_F(LeakCase, RandomScenesOfMovingBodiesLeakNothing) {
+  for (baker::NormalMode mode : {baker::NormalMode::kNormalBlur, baker::NormalMode::kExact}) {
+    std::string error;
+    const std::unique_ptr<SceneSet> set = SceneSet::random(mode, 12, 7, 0.6f, folder_->path().string(), &error);
+    ASSERT_NE(set, nullptr) << error;
+    std::uint64_t contacts = 0, control_visible = 0;
+    for (SceneSpec scene : set->scenes()) {
+      scene.particles = kParticles / 2;
+      const CaseResult r = runScene(scene);
+      EXPECT_EQ(r.visible_leaks, 0u) << baker::normalModeName(mode) << ": " << scene.name;
+      EXPECT_EQ(r.inside_at_end, 0u) << baker::normalModeName(mode) << ": " << scene.name;
+      contacts += r.contacts;
+      scene.responses = Responses::kNone;
+      control_visible += runScene(scene).visible_leaks;
+    }
+    std::printf("  %-12s 12 random scenes: contacts %llu; without responses, visible leaks %llu\n",
+                baker::normalModeName(mode), (unsigned long long)contacts, (unsigned long long)control_visible);
+    EXPECT_GT(contacts, 12u * kParticles / 2) << baker::normalModeName(mode);
+    EXPECT_GT(control_visible, 12u * kParticles / 20) << baker::normalModeName(mode);
+  }
+}
+
 // The SIMD kernels on a real mesh: every set this machine has gives, particle by particle and step by
 // step, the scalar path's positions, velocities and contacts, bit for bit, on fandisk's creases with a
 // spinning body and every response rule (tests/instruction_set_test.cpp does the same on analytic

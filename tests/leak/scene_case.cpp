@@ -225,6 +225,72 @@ std::vector<SceneSpec> meshScenes(const Subject& mesh, const Subject* ground) {
   return scenes;
 }
 
+// Random scenes (SceneSet::random): the movers' shapes, and the ground they move over.
+struct RandomScenes {
+  const Subject* ground;
+  std::vector<const Subject*> shapes;
+  float speed; ///< the movers' largest speed, design speeds
+  std::mt19937 rng;
+
+  float unit() { return std::uniform_real_distribution<float>(0.0f, 1.0f)(rng); }
+
+  // A mover that slides along the ground or spins just above it, its path at least 1 unit from the
+  // paths of `placed` (spheres about their centres, of `radii`). False when it would not fit.
+  bool place(const Subject* shape, float v, int steps, std::vector<SceneBody>* placed, std::vector<float>* radii) {
+    Vec3f lo, hi;
+    bounds(*shape, &lo, &hi);
+    const float radius = length(hi);
+    const bool spin = unit() < 0.5f;
+    const float clearance = unit() < 0.5f ? 0.05f : 1.0f;
+    const float linear = speed * v * unit(), heading = 6.2831853f * unit();
+    const Vec3f velocity{linear * std::cos(heading), linear * std::sin(heading), 0.0f};
+    Vec3f angular;
+    if (spin) // the farthest point's speed from the turn and the slide together stays within `speed`
+      angular =
+          normalizeOrZero({unit() - 0.5f, unit() - 0.5f, unit() - 0.5f}) * ((speed * v - linear) * unit() / radius);
+    const Vec3f at{-30.0f + 60.0f * unit(), -30.0f + 60.0f * unit(), (spin ? radius : hi.z) + clearance};
+    const Vec3f end = at + velocity * (float(steps) * kDt);
+    if (std::fabs(end.x) > 50.0f || std::fabs(end.y) > 50.0f) return false; // stays over the ground
+    for (std::size_t j = 0; j < placed->size(); ++j)
+      for (int k = 0; k <= steps; ++k) {
+        const float t = float(k) * kDt;
+        const Vec3f other = (*placed)[j].position + (*placed)[j].linear * t;
+        if (length(at + velocity * t - other) < radius + (*radii)[j] + 1.0f) return false;
+      }
+    placed->push_back({shape, at, velocity, angular});
+    radii->push_back(radius);
+    return true;
+  }
+
+  SceneSpec next(int index) {
+    SceneSpec scene("random scene " + std::to_string(index));
+    std::vector<const Subject*> chosen;
+    const int movers = 2 + int(unit() * 3.0f) % 3;
+    for (int i = 0; i < movers; ++i)
+      chosen.push_back(shapes[std::size_t(unit() * float(shapes.size())) % shapes.size()]);
+    std::vector<SceneBody> bodies{{ground, {0, 0, -2}}};
+    for (const Subject* shape : chosen)
+      bodies.push_back({shape});
+    const float v = designSpeed(bodies);
+    bodies.erase(bodies.begin() + 1, bodies.end());
+    std::vector<SceneBody> placed;
+    std::vector<float> radii;
+    for (const Subject* shape : chosen)
+      for (int tries = 0; tries < 100 && !place(shape, v, scene.steps, &placed, &radii); ++tries) {
+      }
+    bodies.insert(bodies.end(), placed.begin(), placed.end());
+    scene.bodies = bodies;
+    const bool resting = unit() < 0.5f;
+    scene.spawn_lo = {-40, -40, resting ? kRestingHeight : 0.2f};
+    scene.spawn_hi = {40, 40, resting ? kRestingHeight : 12.0f};
+    scene.spawn_speed = resting ? 0.0f : 0.3f * v;
+    scene.gravity = downward(resting ? kRestingGain : kThrownGain, v);
+    const Responses materials[] = {Responses::kImpact, Responses::kImpactDragFlow, Responses::kSpring};
+    scene.responses = materials[std::size_t(unit() * 3.0f) % 3];
+    return scene;
+  }
+};
+
 } // namespace
 
 std::unique_ptr<SceneSet> SceneSet::boxes(baker::NormalMode mode, const std::string& folder, std::string* out_error) {
@@ -252,6 +318,30 @@ std::unique_ptr<SceneSet> SceneSet::aroundMesh(const Subject& mesh, const std::s
   set->bodies_.push_back(bakeSubject(ground, mesh.mode, folder, out_error));
   if (!set->bodies_.back()) return nullptr;
   set->scenes_ = meshScenes(mesh, set->bodies_.back().get());
+  return set;
+}
+
+std::unique_ptr<SceneSet> SceneSet::random(baker::NormalMode mode, int count, std::uint32_t seed, float speed,
+                                           const std::string& folder, std::string* out_error) {
+  std::unique_ptr<SceneSet> set(new SceneSet);
+  const struct {
+    const char* name;
+    Vec3f half;
+    int resolution;
+  } boxes[] = {{"random ground", {60, 60, 2}, 132},
+               {"random crate", {4, 4, 4}, 32},
+               {"random rod", {1, 1, 8}, 28},
+               {"random slab", {10, 6, 0.75f}, 32}};
+  for (const auto& box : boxes) {
+    set->bodies_.push_back(bakeBox(box.name, box.half, box.resolution, mode, folder, out_error));
+    if (!set->bodies_.back()) return nullptr;
+  }
+  RandomScenes random{set->bodies_[0].get(),
+                      {set->bodies_[1].get(), set->bodies_[2].get(), set->bodies_[3].get()},
+                      speed,
+                      std::mt19937(seed)};
+  for (int n = 0; n < count; ++n)
+    set->scenes_.push_back(random.next(n));
   return set;
 }
 

@@ -62,6 +62,13 @@ public:
   /// along the ground it is sunk into, and spinning just above it.
   static std::unique_ptr<SceneSet> aroundMesh(const Subject& mesh, const std::string& folder, std::string* out_error);
 
+  /// `count` random scenes from `seed`: two to four movers (8-unit crates, rods and slabs 2 and 1.5
+  /// units thick) over a ground 120 units square, each sliding along it or spinning about a random axis
+  /// 0.05 or 1 unit above it, at up to `speed` times the design speed, their paths kept 1 unit apart;
+  /// particles resting on the ground or thrown above it; impact, impact + drag + flow or spring.
+  static std::unique_ptr<SceneSet> random(baker::NormalMode mode, int count, std::uint32_t seed, float speed,
+                                          const std::string& folder, std::string* out_error);
+
   const std::vector<SceneSpec>& scenes() const { return scenes_; }
 
 private:
