@@ -34,6 +34,7 @@ bool clearOfBodies(const SceneSpec& spec, const std::vector<Body>& bodies, Vec3f
   return true;
 }
 
+// The scene's particles; its spawn box must have room outside the bodies.
 testing::Swarm spawnSwarm(const SceneSpec& spec, const std::vector<Body>& bodies) {
   std::mt19937 rng(spec.seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -49,7 +50,7 @@ testing::Swarm spawnSwarm(const SceneSpec& spec, const std::vector<Body>& bodies
   return swarm;
 }
 
-// The box's bounds: code-made boxes are centred on the origin.
+// The subject's mesh's bounding box, in its own frame (the harness centres every mesh on the origin).
 void bounds(const Subject& s, Vec3f* lo, Vec3f* hi) {
   *lo = *hi = s.mesh.mesh.vertices.front();
   for (const Vec3f& v : s.mesh.mesh.vertices) {

@@ -33,7 +33,7 @@ struct SceneSpec {
   Responses responses = Responses::kImpact;
   /// Particles start uniformly in this world box (flat for particles resting on a floor), outside every
   /// body and at least 0.1 of its voxel from its surface, at random directions with speeds up to
-  /// `spawn_speed` (world units per second).
+  /// `spawn_speed` (world units per second). The box must have room outside the bodies.
   Vec3f spawn_lo, spawn_hi;
   float spawn_speed = 0.0f;
   Vec3f gravity;
