@@ -14,6 +14,7 @@
 #include "analytic_field.h"
 #include "sample_io.h"
 #include "sample_particles.h"
+#include "stream_report.h"
 
 #include "dng/forces.h"
 #include "dng/particles.h"
@@ -108,33 +109,10 @@ int run(const Variant& variant, const dng::View& field, const dng::samples::Comm
   }
   const bool pictures_written = trails.write();
 
-  // Of the particles that started aimed at the shaft (within half the disk), who got past it, and how
-  // far from the axis?
-  const std::size_t count = particles.px.size();
-  std::size_t aimed = 0, past = 0, inside = 0;
-  double offset_sum = 0;
-  for (std::size_t n = 0; n < count; ++n) {
-    const Vec3f position{particles.px[n], particles.py[n], particles.pz[n]};
-    Vec3f normal;
-    inside += shaftDistance(position, &normal) < 0.0f ? 1 : 0; // judged on the true shaft, not the field
-    if (start_offsets[n] > 0.5f * kDiskRadius) continue;
-    ++aimed;
-    const Vec3f p = position - kFrom;
-    const float along = dng::dot(p, kDirection);
-    if (along > kPast) {
-      ++past;
-      offset_sum += dng::length(p - kDirection * along);
-    }
-  }
-  std::printf("{\"sample\":\"%s\",\"particles\":%zu,\"steps\":%d,\"step_seconds\":%.4f,"
-              "\"particle_steps_per_second\":%.4g,\"contacts\":%llu,\"inside\":%zu}\n",
-              variant.name, count, kSteps, tally.seconds, tally.particleStepsPerSecond(),
-              (unsigned long long)tally.contacts, inside);
-  const float fraction_downstream = aimed ? float(past) / float(aimed) : 0.0f;
-  const float mean_offset = past ? float(offset_sum / double(past)) : 0.0f;
-  std::printf("{\"sample\":\"%s\",\"fraction_downstream\":%.3f,\"mean_downstream_offset\":%.3f}\n", variant.name,
-              double(fraction_downstream), double(mean_offset));
-  return dng::samples::exitCode(inside == 0 ? 0 : 1, pictures_written);
+  // Of the particles that started aimed at the shaft, who got past it, and how far from the axis?
+  const dng::samples::StreamAxis axis{kFrom, kDirection, kDiskRadius, kPast};
+  return dng::samples::reportStream(variant.name, axis, particles, start_offsets, kSteps, tally, pictures_written,
+                                    shaftDistance);
 }
 
 } // namespace
