@@ -79,6 +79,7 @@ CaseResult runScene(const SceneSpec& spec) {
   const std::size_t count = spec.bodies.size();
   CaseSpec materials;
   materials.responses = spec.responses;
+  materials.swept = spec.swept;
   std::vector<CaseSetup> setups;
   std::vector<Body> before(count);
   for (std::size_t b = 0; b < count; ++b) {

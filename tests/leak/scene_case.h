@@ -31,6 +31,7 @@ struct SceneSpec {
   std::string name;
   std::vector<SceneBody> bodies;
   Responses responses = Responses::kImpact;
+  bool swept = false; ///< every body's material walks every step whatever its speed
   /// Particles start uniformly in this world box (flat for particles resting on a floor), outside every
   /// body and at least 0.1 of its voxel from its surface, at random directions with speeds up to
   /// `spawn_speed` (world units per second). The box must have room outside the bodies.
