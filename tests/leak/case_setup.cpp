@@ -117,11 +117,8 @@ void placeBody(const CaseSetup& setup, float t, Body* body) {
 testing::Swarm spawnParticles(const Subject& subject, const CaseSpec& spec, const CaseSetup& setup, const Body& body) {
   std::mt19937 rng(spec.seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  Vec3f lo{1e30f, 1e30f, 1e30f}, hi = lo * -1.0f;
-  for (const Vec3f& v : subject.mesh.mesh.vertices) {
-    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-  }
+  Vec3f lo, hi;
+  meshBounds(subject.mesh, &lo, &hi);
   const Vec3f pad{subject.reach, subject.reach, subject.reach};
   lo = lo - pad, hi = hi + pad;
   testing::Swarm swarm;

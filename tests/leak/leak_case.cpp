@@ -5,6 +5,7 @@
 #include "ray_caster.h"
 #include "swarm_judge.h"
 
+#include <algorithm>
 #include <chrono>
 #include <vector>
 
@@ -23,6 +24,14 @@ std::uint64_t stepOnce(const Subject& subject, const CaseSpec& spec, const CaseS
 }
 
 } // namespace
+
+void addCounts(const CaseResult& from, CaseResult* to) {
+  to->particle_steps += from.particle_steps, to->contacts += from.contacts, to->fast_steps += from.fast_steps;
+  to->crossing_steps += from.crossing_steps, to->entered += from.entered, to->left += from.left;
+  to->through += from.through, to->within += from.within, to->visible_leaks += from.visible_leaks;
+  to->thin_passes += from.thin_passes, to->deepest = std::max(to->deepest, from.deepest);
+  to->inside_at_end += from.inside_at_end, to->other_side_at_end += from.other_side_at_end;
+}
 
 CaseResult runCase(const Subject& subject, const CaseSpec& spec) {
   const auto t0 = std::chrono::steady_clock::now();

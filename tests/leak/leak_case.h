@@ -65,6 +65,9 @@ struct CaseResult {
   double seconds = 0.0;
 };
 
+/// Adds `from`'s counts to *to and keeps the deeper `deepest`; the median and the seconds stay as they are.
+void addCounts(const CaseResult& from, CaseResult* to);
+
 /// Runs one case. Deterministic for a given spec (the caster and the judge are order-independent).
 CaseResult runCase(const Subject& subject, const CaseSpec& spec);
 

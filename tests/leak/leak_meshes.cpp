@@ -61,6 +61,14 @@ testing::Mesh flipped(testing::Mesh m) {
 
 } // namespace
 
+void meshBounds(const LeakMesh& mesh, Vec3f* lo, Vec3f* hi) {
+  *lo = {1e30f, 1e30f, 1e30f}, *hi = *lo * -1.0f;
+  for (const Vec3f& v : mesh.mesh.vertices) {
+    *lo = {std::min(lo->x, v.x), std::min(lo->y, v.y), std::min(lo->z, v.z)};
+    *hi = {std::max(hi->x, v.x), std::max(hi->y, v.y), std::max(hi->z, v.z)};
+  }
+}
+
 bool loadMeshFile(const std::string& path, const std::string& name, LeakMesh* out, std::string* out_error) {
   baker::TriangleSoup soup;
   const baker::BakeStatus status = baker::loadMesh(path, &soup);

@@ -30,6 +30,9 @@ constexpr float kMeshVoxels = 52.0f; // 64 minus the padding of a 3-voxel-per-st
 /// otherwise. False (with *out_error) when it cannot be read.
 bool loadMeshFile(const std::string& path, const std::string& name, LeakMesh* out, std::string* out_error);
 
+/// The mesh's bounding box in its own frame (the harness centres every mesh on the origin).
+void meshBounds(const LeakMesh& mesh, Vec3f* lo, Vec3f* hi);
+
 /// A closed plate half a voxel thick, 52 x 40 voxels: thinner than a voxel.
 LeakMesh thinPlate();
 /// An L-shaped block: a 90-degree concave notch edge along z.

@@ -367,9 +367,7 @@ private:
       else
         totals_[mode].addDesign(r);
       crossed += r.crossing_steps > 0 ? 1 : 0;
-      sum.particle_steps += r.particle_steps, sum.crossing_steps += r.crossing_steps;
-      sum.visible_leaks += r.visible_leaks, sum.inside_at_end += r.inside_at_end;
-      sum.deepest = std::max(sum.deepest, r.deepest), sum.contacts += r.contacts, sum.fast_steps += r.fast_steps;
+      addCounts(r, &sum);
     }
     const std::string label = mode + (fast ? ", thrown particles at 10x, swept" : "");
     std::fprintf(stderr, "leak_report: %d random scenes, %s: %llu crossings, %llu visible\n", scenes, label.c_str(),

@@ -4,7 +4,6 @@
 // crossing at all. The reference itself and the ray-caster control are checked first, so a failure
 // below them is the step's, not the harness's. `bash setup.sh leaks` runs the full table.
 #include "case_setup.h"
-#include "dng/forces.h"
 #include "dng/instruction_set.h"
 #include "dng/particles.h"
 #include "leak_case.h"

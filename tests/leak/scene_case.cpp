@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <random>
 
@@ -50,19 +51,22 @@ testing::Swarm spawnSwarm(const SceneSpec& spec, const std::vector<Body>& bodies
   return swarm;
 }
 
-// The subject's mesh's bounding box, in its own frame (the harness centres every mesh on the origin).
-void bounds(const Subject& s, Vec3f* lo, Vec3f* hi) {
-  *lo = *hi = s.mesh.mesh.vertices.front();
-  for (const Vec3f& v : s.mesh.mesh.vertices) {
-    *lo = {std::min(lo->x, v.x), std::min(lo->y, v.y), std::min(lo->z, v.z)};
-    *hi = {std::max(hi->x, v.x), std::max(hi->y, v.y), std::max(hi->z, v.z)};
-  }
-}
+// A closed box centred on the origin (its half extents) and the resolution it is baked at.
+struct BoxSpec {
+  const char* name;
+  Vec3f half;
+  int resolution;
+};
 
-// A closed box centred on the origin, baked at `resolution`.
-std::unique_ptr<Subject> bakeBox(const std::string& name, Vec3f half, int resolution, baker::NormalMode mode,
-                                 const std::string& folder, std::string* out_error) {
-  return bakeSubject({name, testing::boxMesh({0, 0, 0}, half), true}, mode, folder, out_error, resolution);
+// Bakes `boxes` in `mode`, in order, onto *out. False (with *out_error) at the first that fails.
+bool bakeBoxes(std::initializer_list<BoxSpec> boxes, baker::NormalMode mode, const std::string& folder,
+               std::string* out_error, std::vector<std::unique_ptr<Subject>>* out) {
+  for (const BoxSpec& box : boxes) {
+    out->push_back(
+        bakeSubject({box.name, testing::boxMesh({0, 0, 0}, box.half), true}, mode, folder, out_error, box.resolution));
+    if (!out->back()) return false;
+  }
+  return true;
 }
 
 } // namespace
@@ -198,7 +202,7 @@ std::vector<SceneSpec> meshScenes(const Subject& mesh, const Subject* ground) {
   std::vector<SceneSpec> scenes;
   const float h = mesh.voxel;
   Vec3f lo, hi;
-  bounds(mesh, &lo, &hi);
+  meshBounds(mesh.mesh, &lo, &hi);
   const float v = designSpeed({{ground}, {&mesh}});
 
   // Sunk 3 voxels into the ground: particles are only where the mesh meets the ground's top.
@@ -240,7 +244,7 @@ struct RandomScenes {
   // paths of `placed` (spheres about their centres, of `radii`). False when it would not fit.
   bool place(const Subject* shape, float v, int steps, std::vector<SceneBody>* placed, std::vector<float>* radii) {
     Vec3f lo, hi;
-    bounds(*shape, &lo, &hi);
+    meshBounds(shape->mesh, &lo, &hi);
     const float radius = length(hi);
     const bool spin = unit() < 0.5f;
     const float clearance = unit() < 0.5f ? 0.05f : 1.0f;
@@ -299,15 +303,9 @@ std::unique_ptr<SceneSet> SceneSet::boxes(baker::NormalMode mode, const std::str
   std::unique_ptr<SceneSet> set(new SceneSet);
   // Voxels of one unit for the ground and the wall (their longest sides plus the band's padding), 0.4
   // for the crates, which set the scenes' design speed.
-  const struct {
-    const char* name;
-    Vec3f half;
-    int resolution;
-  } boxes[] = {{"scene ground", {60, 13, 2}, 132}, {"scene crate", {4, 4, 4}, 32}, {"scene wall", {1, 13, 6}, 38}};
-  for (const auto& box : boxes) {
-    set->bodies_.push_back(bakeBox(box.name, box.half, box.resolution, mode, folder, out_error));
-    if (!set->bodies_.back()) return nullptr;
-  }
+  if (!bakeBoxes({{"scene ground", {60, 13, 2}, 132}, {"scene crate", {4, 4, 4}, 32}, {"scene wall", {1, 13, 6}, 38}},
+                 mode, folder, out_error, &set->bodies_))
+    return nullptr;
   set->scenes_ = crateScenes(set->bodies_[0].get(), set->bodies_[1].get(), set->bodies_[2].get());
   return set;
 }
@@ -326,18 +324,12 @@ std::unique_ptr<SceneSet> SceneSet::aroundMesh(const Subject& mesh, const std::s
 std::unique_ptr<SceneSet> SceneSet::random(baker::NormalMode mode, int count, std::uint32_t seed, float speed,
                                            const std::string& folder, std::string* out_error) {
   std::unique_ptr<SceneSet> set(new SceneSet);
-  const struct {
-    const char* name;
-    Vec3f half;
-    int resolution;
-  } boxes[] = {{"random ground", {60, 60, 2}, 132},
-               {"random crate", {4, 4, 4}, 32},
-               {"random rod", {1, 1, 8}, 28},
-               {"random slab", {10, 6, 0.75f}, 32}};
-  for (const auto& box : boxes) {
-    set->bodies_.push_back(bakeBox(box.name, box.half, box.resolution, mode, folder, out_error));
-    if (!set->bodies_.back()) return nullptr;
-  }
+  if (!bakeBoxes({{"random ground", {60, 60, 2}, 132},
+                  {"random crate", {4, 4, 4}, 32},
+                  {"random rod", {1, 1, 8}, 28},
+                  {"random slab", {10, 6, 0.75f}, 32}},
+                 mode, folder, out_error, &set->bodies_))
+    return nullptr;
   RandomScenes random{set->bodies_[0].get(),
                       {set->bodies_[1].get(), set->bodies_[2].get(), set->bodies_[3].get()},
                       speed,

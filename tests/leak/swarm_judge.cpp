@@ -44,10 +44,7 @@ void SwarmJudge::judgeStep(const Body& after, const testing::Swarm& swarm) {
 
 void SwarmJudge::addTo(CaseResult* out, std::vector<float>* depths) const {
   for (const Tally& tally : tallies_) {
-    const CaseResult& r = tally.result;
-    out->crossing_steps += r.crossing_steps, out->entered += r.entered, out->left += r.left;
-    out->through += r.through, out->within += r.within, out->visible_leaks += r.visible_leaks;
-    out->thin_passes += r.thin_passes, out->deepest = std::max(out->deepest, r.deepest);
+    addCounts(tally.result, out);
     depths->insert(depths->end(), tally.depths.begin(), tally.depths.end());
   }
   for (std::size_t n = 0; n < start_.size(); ++n) {
