@@ -21,7 +21,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
+#include <sstream>
 
 #include <sys/stat.h>
 
@@ -781,6 +783,9 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("absent.obj") + " --scene -1", 1, "--scene: must be a whole number >= 0, got '-1'"},
       {path("absent.obj") + " --voxel-size 0", 1, "--voxel-size: must be a finite number > 0"},
       {path("absent.obj") + " --voxel-size 1e-46", 1, "--voxel-size: must be a finite number > 0"}, // 0 as a float
+      {path("absent.obj") + " --memory-limit 0", 1, "--memory-limit: must be auto, none or a size"},
+      {path("absent.obj") + " --memory-limit -5G", 1, "--memory-limit: must be auto, none or a size"},
+      {path("absent.obj") + " --memory-limit 6Q", 1, "--memory-limit"},
       // Grids the format or OpenVDB cannot hold: refused when placed, not after the whole bake (exit 4).
       {path("good.obj") + " --scale 1e-6", 1, "below OpenVDB's smallest (1.5e-05)"},
       {path("good.obj") + " --scale 2e18", 1, "beyond +-1e18, the format's range"},
@@ -855,6 +860,73 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
   EXPECT_EQ(run.exit_code, 4) << run.output;
   EXPECT_NE(run.output.find("out of memory"), std::string::npos) << run.output;
   EXPECT_EQ(testing::readFile(path("kept.dng")), "previous contents");
+}
+
+// A bake that would outgrow its memory limit stops with exit 4 and says which limit, instead of being
+// killed by the kernel (exit 137, no message) where the machine or its container runs out. The limit
+// holds: the peak stays near it. Nothing is written; the previous output survives.
+TEST_F(BakeTest, MemoryLimitStopsABakeThatWouldOutgrowIt) {
+#ifdef DNG_TEST_SANITIZED
+  GTEST_SKIP() << "the memory limit replaces operator new, which a sanitizer runtime owns";
+#endif
+  testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("big.obj"));
+  std::ofstream(path("kept.dng")) << "previous contents";
+  // The box at 2000 voxels needs gigabytes; 300 MiB is enough to load it and start.
+  const std::uint64_t limit = std::uint64_t(300) << 20;
+  const ProgramRun run = testing::runProgram(testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + path("big.obj") +
+                                             " --resolution 2000 --memory-limit 300M --json -o " + path("kept.dng") +
+                                             " 2>" + path("stderr.txt"));
+  EXPECT_EQ(run.exit_code, 4) << run.output;
+  const std::string said = testing::readFile(path("stderr.txt"));
+  EXPECT_NE(said.find("out of memory while baking"), std::string::npos) << said;
+  EXPECT_NE(said.find("reached its memory limit, 315 MB: --memory-limit"), std::string::npos) << said;
+  const nlohmann::json report = nlohmann::json::parse(run.output, nullptr, false);
+  ASSERT_FALSE(report.is_discarded()) << run.output;
+  EXPECT_EQ(report["error"]["exit_code"], 4);
+  EXPECT_EQ(report["working_store"]["memory_limit_bytes"].get<std::uint64_t>(), limit);
+  const auto peak = report["working_store"]["peak_memory_bytes"].get<std::uint64_t>();
+  EXPECT_GT(peak, limit / 2) << "the bake stopped long before the limit";
+  EXPECT_LT(peak, limit + (std::uint64_t(64) << 20)) << "the limit did not hold";
+  EXPECT_EQ(testing::readFile(path("kept.dng")), "previous contents");
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
+}
+
+// The kilobytes after `key` in /proc/meminfo; 0 when it is not there.
+std::uint64_t meminfoKilobytes(const std::string& key) {
+  std::istringstream lines(testing::readFile("/proc/meminfo"));
+  std::string name;
+  std::uint64_t value = 0;
+  while (lines >> name >> value) {
+    if (name == key + ":") return value;
+    lines.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return 0;
+}
+
+// By default the limit is what the machine (or container) has free when the bake starts: some, never
+// more than its memory and swap. `none` lifts it; a size is taken in bytes, k = 1024.
+TEST_F(BakeTest, MemoryLimitDefaultsToTheMachinesFreeMemory) {
+#ifdef DNG_TEST_SANITIZED
+  GTEST_SKIP() << "the memory limit replaces operator new, which a sanitizer runtime owns";
+#endif
+  const std::uint64_t total = (meminfoKilobytes("MemTotal") + meminfoKilobytes("SwapTotal")) * 1024;
+  if (total == 0) GTEST_SKIP() << "no /proc/meminfo here";
+  testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("box.obj"));
+  const auto limitOf = [&](const std::string& option) {
+    const ProgramRun run = runDngbake(path("box.obj") + " --resolution 16 --json -o " + path("box.dng") + option);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    const nlohmann::json report = nlohmann::json::parse(run.output, nullptr, false);
+    return report.is_discarded() ? nlohmann::json() : report["working_store"]["memory_limit_bytes"];
+  };
+  const nlohmann::json automatic = limitOf("");
+  ASSERT_TRUE(automatic.is_number_unsigned()) << automatic;
+  EXPECT_GT(automatic.get<std::uint64_t>(), std::uint64_t(1) << 20);
+  EXPECT_LE(automatic.get<std::uint64_t>(), total);
+  EXPECT_TRUE(limitOf(" --memory-limit auto").is_number_unsigned());
+  EXPECT_TRUE(limitOf(" --memory-limit none").is_null());
+  EXPECT_EQ(limitOf(" --memory-limit 6G").get<std::uint64_t>(), std::uint64_t(6) << 30);
+  EXPECT_EQ(limitOf(" --memory-limit 2048mb").get<std::uint64_t>(), std::uint64_t(2) << 30);
 }
 
 // Shell lines that start dngbake in the background as $pid and wait until it has installed its SIGINT

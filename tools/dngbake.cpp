@@ -5,6 +5,8 @@
 #include "command_line.h"
 #include "exit_codes.h"
 #include "import_options.h"
+#include "machine_memory.h"
+#include "memory_cap.h"
 #include "standard_output.h"
 #include "terminal.h"
 
@@ -12,9 +14,14 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <cctype>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
+#include <optional>
+#include <string>
 
 namespace {
 
@@ -42,7 +49,48 @@ struct CommandLine {
   BakeOptions bake;
   bool json = false;
   bool quiet = false;
+  std::string memory_limit = "auto"; ///< "auto", "none" or a number of bytes (memoryLimitValue)
 };
+
+// The auto limit leaves a tenth of the free memory to what the cap does not see at once: allocations
+// around operator new, the file's pages, the kernel's own.
+constexpr int kAutoLimitPercent = 90;
+
+// --memory-limit's values: auto, none, or a size (CLI11's units, k = 1024) turned into bytes.
+CLI::Validator memoryLimitValue() {
+  return CLI::Validator(
+      [](std::string& text) {
+        if (text == "auto" || text == "none") return std::string();
+        std::string bytes = text;
+        if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) ||
+            !CLI::AsSizeValue(false)(bytes).empty() || std::strtoull(bytes.c_str(), nullptr, 10) == 0)
+          return "must be auto, none or a size such as 6G or 800M, got '" + text + "'";
+        text = bytes;
+        return std::string();
+      },
+      "auto|none|SIZE");
+}
+
+// The cap --memory-limit asks for, in bytes of resident memory; 0: none. Auto: what this process holds
+// now plus kAutoLimitPercent of what the machine and its cgroups leave free (no cap where that is unknown).
+std::uint64_t memoryLimitBytes(const std::string& value) {
+  if (value == "none") return 0;
+  if (value != "auto") return std::strtoull(value.c_str(), nullptr, 10);
+  const std::optional<std::uint64_t> headroom = memoryHeadroomBytes();
+  if (!headroom) return 0;
+  return residentBytes() + *headroom / 100 * kAutoLimitPercent;
+}
+
+// What the auto limit is, in words.
+std::string autoLimitWords() {
+  return ", " + std::to_string(kAutoLimitPercent) + "% of the memory free when it started";
+}
+
+std::string megabytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0f MB", double(bytes) / 1e6);
+  return text;
+}
 
 // Progress: one redrawn line on stderr, only for a person watching a terminal.
 struct Progress {
@@ -98,6 +146,11 @@ void addOptions(CLI::App& app, CommandLine& cl) {
   app.add_flag("!--no-second-planes", cl.bake.second_planes,
                "leave out the PLN2 section (bricked): particles beside edges are then proven outside less often");
   app.add_option("--export-vdb", cl.export_vdb, "also write distance and normal grids as OpenVDB");
+  app.add_option("--memory-limit", cl.memory_limit,
+                 "stop with 'out of memory' (exit 4) rather than outgrow this: auto (default: " +
+                     std::to_string(kAutoLimitPercent) +
+                     "% of the memory free at the start, the container's limit included), none, or a size such as 6G")
+      ->transform(memoryLimitValue());
   app.add_option("--threads", cl.bake.threads, "worker threads (default: all); the output never depends on it");
   app.add_flag("--json", cl.json, "print a versioned JSON report on stdout");
   app.add_flag("-q,--quiet", cl.quiet, "no progress, no summary");
@@ -119,9 +172,13 @@ int exitCodeFor(BakeError error) {
   return kExitInternal;
 }
 
-// What the user reads on failure: the status's sentence, or for a cancel what it means for the output.
+// What the user reads on failure: the status's sentence, or for a cancel what it means for the output;
+// after the memory limit stopped the bake, which limit that was.
 std::string failureMessage(const CommandLine& cl, const BakeStatus& status) {
   if (status.code == BakeError::kCancelled) return "interrupted; " + cl.output + " was not written";
+  if (memoryCapReached())
+    return status.message + " (the bake reached its memory limit, " + megabytes(memoryCap()) +
+           (cl.memory_limit == "auto" ? autoLimitWords() : "") + ": --memory-limit)";
   return status.message;
 }
 
@@ -170,6 +227,7 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
                   {"second_planes", e.second_planes},
                   {"payload_bytes", e.payload_bytes}};
   j["working_store"] = {{"blocks", r.band_blocks}, {"peak_memory_bytes", r.peak_memory_bytes}};
+  j["working_store"]["memory_limit_bytes"] = memoryCap() > 0 ? nlohmann::ordered_json(memoryCap()) : nullptr;
   j["output_bytes"] = r.output_bytes;
   nlohmann::ordered_json timings = nlohmann::ordered_json::object();
   for (const auto& [stage, seconds] : r.stage_seconds)
@@ -201,6 +259,7 @@ int main(int argc, char** argv) {
     return finishStandardOutput("dngbake", code); // --help and --version print there
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+  setMemoryCap(memoryLimitBytes(cl.memory_limit));
   Progress progress{wantProgress(cl)};
   BakeReport report;
   const BakeStatus status = bake(cl.inputs, {cl.output, cl.export_vdb}, cl.bake, &Progress::update, &progress, &report);

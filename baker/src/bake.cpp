@@ -255,16 +255,17 @@ BakeStatus bake(const BakeInputs& inputs, const BakeOutputs& outputs, const Bake
   if (BakeStatus checked = checkOutputPaths(inputs.paths, outputs); !checked.ok()) return checked;
   BakeReport unused; // the stages fill a report as they go, wanted or not
   if (report == nullptr) report = &unused;
+  BakeStatus status;
   try {
-    const BakeStatus status = bakeStages(inputs, outputs, options, progress, user, report);
-    report->peak_memory_bytes = peakMemoryBytes();
-    return status;
+    status = bakeStages(inputs, outputs, options, progress, user, report);
   } catch (const std::bad_alloc&) {
-    return BakeStatus::failure(BakeError::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
-                                                     "--resolution or a thinner --band");
+    status = BakeStatus::failure(BakeError::kInternal, "out of memory while baking: use a larger --voxel-size, a "
+                                                       "smaller --resolution or a thinner --band");
   } catch (const std::exception& e) {
-    return BakeStatus::failure(BakeError::kInternal, std::string("internal error: ") + e.what());
+    status = BakeStatus::failure(BakeError::kInternal, std::string("internal error: ") + e.what());
   }
+  report->peak_memory_bytes = peakMemoryBytes(); // also when memory ran out: how far the bake got
+  return status;
 }
 
 } // namespace baker

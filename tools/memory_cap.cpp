@@ -1,0 +1,84 @@
+#include "memory_cap.h"
+
+#include "machine_memory.h"
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+// Built with AddressSanitizer or ThreadSanitizer: GCC defines the first two names, clang answers
+// __has_feature. Their runtimes replace operator new themselves.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define DNG_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define DNG_SANITIZED 1
+#endif
+#endif
+
+namespace dng {
+namespace tools {
+
+namespace {
+
+std::atomic<std::uint64_t> g_cap{0};   // the cap being enforced; 0 once it was reached
+std::atomic<std::uint64_t> g_limit{0}; // the cap as set
+std::atomic<bool> g_reached{false};
+
+#ifndef DNG_SANITIZED
+/// Resident memory is read again after this many bytes more have been allocated.
+constexpr std::uint64_t kCheckEvery = std::uint64_t(16) << 20;
+
+std::atomic<std::uint64_t> g_allocated{0}; // every byte asked of operator new while a cap was set
+
+// Throws std::bad_alloc when `size` more bytes would take the process past the cap. Cheap between
+// checks: one relaxed atomic add.
+void chargeAllocation(std::size_t size) {
+  const std::uint64_t cap = g_cap.load(std::memory_order_relaxed);
+  if (cap == 0) return;
+  const std::uint64_t before = g_allocated.fetch_add(size, std::memory_order_relaxed);
+  if (size < kCheckEvery && before / kCheckEvery == (before + size) / kCheckEvery) return;
+  const std::uint64_t resident = residentBytes();
+  if (resident == 0 || resident + size <= cap) return;
+  g_cap.store(0, std::memory_order_relaxed);
+  g_reached.store(true, std::memory_order_relaxed);
+  throw std::bad_alloc();
+}
+#endif
+
+} // namespace
+
+bool memoryCapSupported() {
+#ifdef DNG_SANITIZED
+  return false;
+#else
+  return true;
+#endif
+}
+
+void setMemoryCap(std::uint64_t bytes) {
+  if (!memoryCapSupported()) return;
+  g_limit.store(bytes, std::memory_order_relaxed);
+  g_cap.store(bytes, std::memory_order_relaxed);
+}
+
+std::uint64_t memoryCap() { return g_limit.load(std::memory_order_relaxed); }
+
+bool memoryCapReached() { return g_reached.load(std::memory_order_relaxed); }
+
+} // namespace tools
+} // namespace dng
+
+#ifndef DNG_SANITIZED
+// The one replacement the cap needs: libstdc++'s array and nothrow forms call this one. Its other
+// operators (delete, aligned new) pair with malloc and free as before.
+void* operator new(std::size_t size) {
+  dng::tools::chargeAllocation(size);
+  for (;;) {
+    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+    const std::new_handler handler = std::get_new_handler();
+    if (handler == nullptr) throw std::bad_alloc();
+    handler();
+  }
+}
+#endif
