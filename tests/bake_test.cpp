@@ -892,6 +892,38 @@ TEST_F(BakeTest, MemoryLimitStopsABakeThatWouldOutgrowIt) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
 }
 
+// Memory that runs out while a reader holds it (OpenMesh's, here) is out of memory too, exit 4, not an
+// unreadable file (exit 2): the readers' own error handling lets std::bad_alloc through.
+TEST_F(BakeTest, MemoryRunningOutWhileLoadingIsNotAnUnreadableFile) {
+#ifdef DNG_TEST_SANITIZED
+  GTEST_SKIP() << "the memory limit replaces operator new, which a sanitizer runtime owns";
+#endif
+  // A binary STL: its guard reads facets into a fixed buffer, so the first 16 MB allocated, where the
+  // limit is first checked, are OpenMesh's (welding a million triangles' corners takes several times
+  // that), and the limit is below what the process holds once its libraries are loaded.
+  const testing::Mesh sphere = testing::sphereMesh({0, 0, 0}, 1.0f, 1024, 512);
+  {
+    std::ofstream stl(path("fine.stl"), std::ios::binary);
+    const char header[80] = "binary STL of a fine sphere";
+    const auto count = std::uint32_t(sphere.triangles.size());
+    stl.write(header, sizeof header);
+    stl.write(reinterpret_cast<const char*>(&count), 4);
+    for (const auto& t : sphere.triangles) {
+      float facet[12] = {};
+      for (int corner = 0; corner < 3; ++corner)
+        std::memcpy(facet + 3 + 3 * corner, &sphere.vertices[t[corner]], 3 * sizeof(float));
+      const std::uint16_t attributes = 0;
+      stl.write(reinterpret_cast<const char*>(facet), sizeof facet);
+      stl.write(reinterpret_cast<const char*>(&attributes), 2);
+    }
+  }
+  const ProgramRun run = runDngbake(path("fine.stl") + " --memory-limit 8M -o " + path("fine.dng"));
+  EXPECT_EQ(run.exit_code, 4) << run.output;
+  EXPECT_NE(run.output.find("out of memory while baking"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("could not read"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("fine.dng")));
+}
+
 // The kilobytes after `key` in /proc/meminfo; 0 when it is not there.
 std::uint64_t meminfoKilobytes(const std::string& key) {
   std::istringstream lines(testing::readFile("/proc/meminfo"));

@@ -239,6 +239,11 @@ std::uint64_t peakMemoryBytes() {
 
 } // namespace
 
+BakeStatus outOfMemoryFailure() {
+  return BakeStatus::failure(BakeError::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
+                                                   "--resolution or a thinner --band");
+}
+
 // Nothing is written before the last stage, so an exception (memory running out in the band's grids,
 // an OpenVDB or TBB error) leaves no output behind; it only has to become a status instead of an abort.
 BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,
@@ -259,8 +264,7 @@ BakeStatus bake(const BakeInputs& inputs, const BakeOutputs& outputs, const Bake
   try {
     status = bakeStages(inputs, outputs, options, progress, user, report);
   } catch (const std::bad_alloc&) {
-    status = BakeStatus::failure(BakeError::kInternal, "out of memory while baking: use a larger --voxel-size, a "
-                                                       "smaller --resolution or a thinner --band");
+    status = outOfMemoryFailure();
   } catch (const std::exception& e) {
     status = BakeStatus::failure(BakeError::kInternal, std::string("internal error: ") + e.what());
   }

@@ -7,6 +7,8 @@
 #include "band_grid_vdb.h"
 #include "stages.h"
 
+#include <new>
+
 namespace dng {
 namespace baker {
 
@@ -25,6 +27,8 @@ BakeStatus exportVdb(const BandGrid& band, const std::string& temp, const std::s
     if (grids.shading != nullptr) written.push_back(grids.shading);
     file.write(written);
     file.close();
+  } catch (const std::bad_alloc&) {
+    throw; // out of memory, not an I/O error; the staged outputs remove the temporary file
   } catch (const std::exception& e) {
     return BakeStatus::failure(BakeError::kIo, "cannot write '" + path + "': " + e.what());
   }

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <new>
 
 namespace dng {
 namespace baker {
@@ -151,6 +152,8 @@ BakeStatus importAssimpInProcess(const std::string& path, const ImportOptions& o
   const aiScene* scene = nullptr;
   try { // assimp reports failures through GetErrorString, but some of its readers throw past it
     scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_ValidateDataStructure);
+  } catch (const std::bad_alloc&) {
+    throw; // out of memory, not a broken file
   } catch (const std::exception& e) {
     return BakeStatus::failure(BakeError::kInvalidInput, std::string("assimp could not read it: ") + e.what());
   }

@@ -4,6 +4,7 @@
 #include "dng/baker/import.h"
 #include "gltf_accessor.h"
 
+#include <new>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -124,6 +125,8 @@ BakeStatus loadModel(const std::string& path, bool binary, tinygltf::Model* out_
   try { // tinygltf reports through strings, but its JSON parser and containers may still throw
     loaded = binary ? loader.LoadBinaryFromFile(out_model, &err, &warn, absolute)
                     : loader.LoadASCIIFromFile(out_model, &err, &warn, absolute);
+  } catch (const std::bad_alloc&) {
+    throw; // out of memory, not a broken file
   } catch (const std::exception& e) {
     err = e.what();
   }

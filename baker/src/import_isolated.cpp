@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <new>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -153,6 +154,8 @@ std::string readAll(int fd) {
   BakeStatus status;
   try {
     status = importer(path, options, &soup, &report);
+  } catch (const std::bad_alloc&) {
+    status = outOfMemoryFailure();
   } catch (const std::exception& e) {
     status = BakeStatus::failure(BakeError::kInternal, std::string("the importer failed: ") + e.what());
   }

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <new>
 #include <sstream>
 
 namespace dng {
@@ -160,6 +161,8 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup) {
   bool read = false;
   try {
     read = om::IO::IOManager().read(path, importer, options);
+  } catch (const std::bad_alloc&) {
+    throw;                            // out of memory, not an unreadable file
   } catch (const std::exception& e) { // OpenMesh's readers may throw on malformed files
     soup.reader_messages.insert(soup.reader_messages.begin(), e.what());
   }

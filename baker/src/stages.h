@@ -50,6 +50,12 @@ struct TriangleSoup {
 /// registry and log streams are global).
 BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup);
 
+/// The failure for memory running out in any stage (std::bad_alloc: the machine's, or dngbake's
+/// --memory-limit): kInternal, saying what to change. Stages that catch what a library throws let
+/// std::bad_alloc through to bake(), which reports this; a process of its own (import_isolated.cpp)
+/// reports it itself.
+BakeStatus outOfMemoryFailure();
+
 MeshReport checkMesh(const TriangleSoup& soup);
 
 /// kInvalidInput when the mesh cannot be baked: no triangles, non-finite coordinates, or every
