@@ -289,7 +289,13 @@ def table1_section(path, table_mesh="fandisk"):
           "outside, and the 26-sample neighbour bound about a fifth of the step; a swarm of nothing but blocked "
           "points cost about 320 ns per particle-step there, and 190 since the lanes take the bound at a "
           "walk's start and hand a blocked stop to the scalar code without its walk): that is why those "
-          "meshes cost more than fandisk, and why the sweep's column of spawns the field proves costs less. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
+          "meshes cost more than fandisk, and why the sweep's column of spawns the field proves costs less. "
+          "From spawns the field proves, the handovers still make the difference (callgrind, AVX2 kernels, "
+          "bench/swarm_hash at 20,000 particles and 60 steps of Table 1's load): on dragon_res4 0.86% of "
+          "particle-steps are handed over, against 0.16% on fandisk, and each costs about 6,500 instructions "
+          "(about 1.3 walks, each sampling about 5 cells and taking about 1.3 neighbour bounds of 26 samples), "
+          "against about 215 for a particle-step the lanes settle: the step takes 261 instructions per "
+          "particle-step there against 217 on fandisk, a fifth more, nearly all of it the handovers. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
           "what the field pays is fixed per sample.")
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
