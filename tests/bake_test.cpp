@@ -785,7 +785,8 @@ TEST_F(BakeTest, BadInputGetsAClearMessageItsExitCodeAndNoOutput) {
       {path("absent.obj") + " --voxel-size 1e-46", 1, "--voxel-size: must be a finite number > 0"}, // 0 as a float
       {path("absent.obj") + " --memory-limit 0", 1, "--memory-limit: must be auto, none or a size"},
       {path("absent.obj") + " --memory-limit -5G", 1, "--memory-limit: must be auto, none or a size"},
-      {path("absent.obj") + " --memory-limit 6Q", 1, "--memory-limit"},
+      {path("absent.obj") + " --memory-limit 6Q", 1, "--memory-limit: must be auto, none or a size"},
+      {path("absent.obj") + " --memory-limit 1.5G", 1, "--memory-limit: must be auto, none or a size"},
       // Grids the format or OpenVDB cannot hold: refused when placed, not after the whole bake (exit 4).
       {path("good.obj") + " --scale 1e-6", 1, "below OpenVDB's smallest (1.5e-05)"},
       {path("good.obj") + " --scale 2e18", 1, "beyond +-1e18, the format's range"},
@@ -855,8 +856,9 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("big.obj"));
   std::ofstream(path("kept.dng")) << "previous contents";
   // A box at 2000 voxels needs gigabytes of band; 600 MB of address space is enough to start.
-  const ProgramRun run = testing::runProgram("ulimit -v 600000; " + testing::shellQuoted(DNG_DNGBAKE_PATH) + " " +
-                                             path("big.obj") + " --resolution 2000 -o " + path("kept.dng") + " 2>&1");
+  const ProgramRun run =
+      testing::runProgram("ulimit -v 600000; " + testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + path("big.obj") +
+                          " --resolution 2000 --memory-limit none -o " + path("kept.dng") + " 2>&1");
   EXPECT_EQ(run.exit_code, 4) << run.output;
   EXPECT_NE(run.output.find("out of memory"), std::string::npos) << run.output;
   EXPECT_EQ(testing::readFile(path("kept.dng")), "previous contents");
@@ -874,8 +876,8 @@ TEST_F(BakeTest, MemoryLimitStopsABakeThatWouldOutgrowIt) {
   // The box at 2000 voxels needs gigabytes; 300 MiB is enough to load it and start.
   const std::uint64_t limit = std::uint64_t(300) << 20;
   const ProgramRun run = testing::runProgram(testing::shellQuoted(DNG_DNGBAKE_PATH) + " " + path("big.obj") +
-                                             " --resolution 2000 --memory-limit 300M --json -o " + path("kept.dng") +
-                                             " 2>" + path("stderr.txt"));
+                                             " --resolution 2000 --memory-limit 300M --threads 2 --json -o " +
+                                             path("kept.dng") + " 2>" + path("stderr.txt"));
   EXPECT_EQ(run.exit_code, 4) << run.output;
   const std::string said = testing::readFile(path("stderr.txt"));
   EXPECT_NE(said.find("out of memory while baking"), std::string::npos) << said;
@@ -936,8 +938,9 @@ std::uint64_t meminfoKilobytes(const std::string& key) {
   return 0;
 }
 
-// By default the limit is what the machine (or container) has free when the bake starts: some, never
-// more than its memory and swap. `none` lifts it; a size is taken in bytes, k = 1024.
+// By default the limit is what the bake holds at the start and most of what the machine (or container)
+// has free then: some, never more than its memory and swap. `none` lifts it; a size is taken in bytes,
+// k = 1024, its digits decimal.
 TEST_F(BakeTest, MemoryLimitDefaultsToTheMachinesFreeMemory) {
 #ifdef DNG_TEST_SANITIZED
   GTEST_SKIP() << "the memory limit replaces operator new, which a sanitizer runtime owns";
@@ -959,6 +962,7 @@ TEST_F(BakeTest, MemoryLimitDefaultsToTheMachinesFreeMemory) {
   EXPECT_TRUE(limitOf(" --memory-limit none").is_null());
   EXPECT_EQ(limitOf(" --memory-limit 6G").get<std::uint64_t>(), std::uint64_t(6) << 30);
   EXPECT_EQ(limitOf(" --memory-limit 2048mb").get<std::uint64_t>(), std::uint64_t(2) << 30);
+  EXPECT_EQ(limitOf(" --memory-limit 010G").get<std::uint64_t>(), std::uint64_t(10) << 30); // not octal
 }
 
 // Shell lines that start dngbake in the background as $pid and wait until it has installed its SIGINT

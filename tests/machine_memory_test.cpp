@@ -54,11 +54,12 @@ protected:
   }
 };
 
-TEST_F(MachineMemoryTest, WithoutCgroupLimitsTheFreeMemoryAndSwapCount) {
+// Free swap does not count: the cap compares resident memory, which leaves swapped-out pages out.
+TEST_F(MachineMemoryTest, WithoutCgroupLimitsTheFreeMemoryCounts) {
   meminfo(3000, 500);
   write("proc/self/cgroup", "4:memory:/\n0::/\n");
   levelV1("", "9223372036854771712", 100, 0); // the root: v1's "no limit"
-  EXPECT_EQ(headroom(), 3500 * kMiB);
+  EXPECT_EQ(headroom(), 3000 * kMiB);
 }
 
 // Every level's limit applies to what is below it; the file cache is reclaimed, not counted as used.
@@ -74,7 +75,7 @@ TEST_F(MachineMemoryTest, TheTightestCgroupLevelDecides) {
   EXPECT_EQ(headroom(), 524 * kMiB);
   // And with free memory tighter than both, the machine does.
   meminfo(300, 100);
-  EXPECT_EQ(headroom(), 400 * kMiB);
+  EXPECT_EQ(headroom(), 300 * kMiB);
 }
 
 // cgroup v2: "max" is no limit; memory.current and memory.stat's file lines give what is used.
@@ -103,13 +104,12 @@ TEST_F(MachineMemoryTest, WithoutMeminfoTheHeadroomIsUnknown) {
   EXPECT_FALSE(tools::memoryHeadroomBytes(root()).has_value());
 }
 
-// This machine's own: some memory is free, no more than /proc/meminfo's total of memory and swap, and
-// this process holds some resident memory.
+// This machine's own: the headroom can be read, and this process holds some resident memory.
 TEST_F(MachineMemoryTest, ThisMachineHasSomeFreeMemory) {
   if (!fs::exists("/proc/meminfo")) GTEST_SKIP() << "no /proc here";
   const std::optional<std::uint64_t> h = tools::memoryHeadroomBytes();
   ASSERT_TRUE(h.has_value());
-  EXPECT_GT(*h, 16 * kMiB);
+  EXPECT_GT(*h, 0u);
   EXPECT_GT(tools::residentBytes(), kMiB);
 }
 

@@ -56,16 +56,32 @@ struct CommandLine {
 // around operator new, the file's pages, the kernel's own.
 constexpr int kAutoLimitPercent = 90;
 
-// --memory-limit's values: auto, none, or a size (CLI11's units, k = 1024) turned into bytes.
+// A size: decimal digits (never octal: CLI11 would read 010G as 8 GiB), then a unit CLI11 knows (k =
+// 1024) or none for bytes. 0 when it is not one or is zero.
+std::uint64_t sizeInBytes(const std::string& text) {
+  std::size_t digits = 0;
+  while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits])))
+    ++digits;
+  if (digits == 0 || digits > 15) return 0;
+  std::string unit = "1" + text.substr(digits); // one of the unit, whose bytes CLI11 knows
+  try {
+    if (!CLI::AsSizeValue(false)(unit).empty()) return 0;
+  } catch (const CLI::ValidationError&) { // an unknown unit
+    return 0;
+  }
+  const std::uint64_t number = std::strtoull(text.substr(0, digits).c_str(), nullptr, 10);
+  const std::uint64_t factor = std::strtoull(unit.c_str(), nullptr, 10);
+  return factor != 0 && number <= UINT64_MAX / factor ? number * factor : 0;
+}
+
+// --memory-limit's values: auto, none, or a size turned into bytes.
 CLI::Validator memoryLimitValue() {
   return CLI::Validator(
       [](std::string& text) {
         if (text == "auto" || text == "none") return std::string();
-        std::string bytes = text;
-        if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) ||
-            !CLI::AsSizeValue(false)(bytes).empty() || std::strtoull(bytes.c_str(), nullptr, 10) == 0)
-          return "must be auto, none or a size such as 6G or 800M, got '" + text + "'";
-        text = bytes;
+        const std::uint64_t bytes = sizeInBytes(text);
+        if (bytes == 0) return "must be auto, none or a size such as 6G or 800M, got '" + text + "'";
+        text = std::to_string(bytes);
         return std::string();
       },
       "auto|none|SIZE");
@@ -83,10 +99,11 @@ std::uint64_t memoryLimitBytes(const std::string& value) {
 
 // What the auto limit is, in words.
 std::string autoLimitWords() {
-  return ", " + std::to_string(kAutoLimitPercent) + "% of the memory free when it started";
+  return ", what it held at the start and " + std::to_string(kAutoLimitPercent) + "% of the memory then free";
 }
 
 std::string megabytes(std::uint64_t bytes) {
+  if (bytes < 1000000) return std::to_string(bytes) + " bytes";
   char text[32];
   std::snprintf(text, sizeof text, "%.0f MB", double(bytes) / 1e6);
   return text;
@@ -147,9 +164,10 @@ void addOptions(CLI::App& app, CommandLine& cl) {
                "leave out the PLN2 section (bricked): particles beside edges are then proven outside less often");
   app.add_option("--export-vdb", cl.export_vdb, "also write distance and normal grids as OpenVDB");
   app.add_option("--memory-limit", cl.memory_limit,
-                 "stop with 'out of memory' (exit 4) rather than outgrow this: auto (default: " +
+                 "stop with 'out of memory' (exit 4) rather than outgrow this: auto (default: what it holds at the "
+                 "start and " +
                      std::to_string(kAutoLimitPercent) +
-                     "% of the memory free at the start, the container's limit included), none, or a size such as 6G")
+                     "% of the memory then free, the container's limit included), none, or a size such as 6G")
       ->transform(memoryLimitValue());
   app.add_option("--threads", cl.bake.threads, "worker threads (default: all); the output never depends on it");
   app.add_flag("--json", cl.json, "print a versioned JSON report on stdout");
@@ -172,14 +190,25 @@ int exitCodeFor(BakeError error) {
   return kExitInternal;
 }
 
+// Whether a failure is the memory limit's, whatever a library made of the std::bad_alloc it caused
+// (tinygltf's parser catches it and reports a broken file).
+bool stoppedByMemoryLimit(const BakeStatus& status) {
+  return !status.ok() && status.code != BakeError::kCancelled && memoryCapReached();
+}
+
+int exitCodeFor(const BakeStatus& status) {
+  return stoppedByMemoryLimit(status) ? kExitInternal : exitCodeFor(status.code);
+}
+
 // What the user reads on failure: the status's sentence, or for a cancel what it means for the output;
-// after the memory limit stopped the bake, which limit that was.
+// after the memory limit stopped the bake, that it did and which limit it was.
 std::string failureMessage(const CommandLine& cl, const BakeStatus& status) {
   if (status.code == BakeError::kCancelled) return "interrupted; " + cl.output + " was not written";
-  if (memoryCapReached())
-    return status.message + " (the bake reached its memory limit, " + megabytes(memoryCap()) +
-           (cl.memory_limit == "auto" ? autoLimitWords() : "") + ": --memory-limit)";
-  return status.message;
+  if (!stoppedByMemoryLimit(status)) return status.message;
+  const std::string limit = " (the bake reached its memory limit, " + megabytes(memoryCap()) +
+                            (cl.memory_limit == "auto" ? autoLimitWords() : "") + ": --memory-limit)";
+  if (status.code == BakeError::kInternal) return status.message + limit;
+  return "out of memory while baking" + limit + "; " + status.message;
 }
 
 nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, const BakeStatus& status) {
@@ -191,7 +220,7 @@ nlohmann::ordered_json reportJson(const CommandLine& cl, const BakeReport& r, co
   j["units"] = lengthUnitName(r.units);
   j["output"] = cl.output;
   j["ok"] = status.ok();
-  if (!status.ok()) j["error"] = {{"exit_code", exitCodeFor(status.code)}, {"message", failureMessage(cl, status)}};
+  if (!status.ok()) j["error"] = {{"exit_code", exitCodeFor(status)}, {"message", failureMessage(cl, status)}};
   const MeshReport& m = r.mesh;
   j["mesh"] = {{"vertices", m.vertices},
                {"triangles", m.triangles},
@@ -275,7 +304,7 @@ int main(int argc, char** argv) {
   if (!status.ok()) {
     std::fprintf(stderr, "dngbake: %s%s\n",
                  status.code == BakeError::kCancelled ? "" : "error: ", failureMessage(cl, status).c_str());
-    return finishStandardOutput("dngbake", exitCodeFor(status.code));
+    return finishStandardOutput("dngbake", exitCodeFor(status));
   }
   if (!cl.quiet && !cl.json) printSummary(cl, report);
   return finishStandardOutput("dngbake", kExitOk); // the .dng is whole either way: only the report was lost

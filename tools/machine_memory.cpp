@@ -118,10 +118,11 @@ std::uint64_t residentBytes() {
 
 std::optional<std::uint64_t> memoryHeadroomBytes(const std::string& root) {
   const std::string meminfo = root + "/proc/meminfo";
-  std::uint64_t available = 0, swap_free = 0;
+  // Swap is not counted: the cap compares resident memory, which leaves swapped-out pages out, so a
+  // cap that counted swap could lie beyond anything the process's resident size ever reaches.
+  std::uint64_t available = 0;
   if (!readKeyed(meminfo, "MemAvailable", 1024, &available)) return std::nullopt;
-  readKeyed(meminfo, "SwapFree", 1024, &swap_free);
-  return std::min(available + swap_free, cgroupsHeadroom(root));
+  return std::min(available, cgroupsHeadroom(root));
 }
 
 } // namespace tools

@@ -1,5 +1,5 @@
 // How much memory this process holds, and how much more it may take before the kernel's out-of-memory
-// killer ends it: the machine's free memory and swap, and the limits of the memory cgroups it runs in
+// killer ends it: the machine's free memory, and the limits of the memory cgroups it runs in
 // (containers, CI runners, systemd slices). Linux; elsewhere, or where nothing can be read, "unknown".
 //
 // residentBytes() does not allocate from the heap: memory_cap.cpp calls it from inside operator new.
@@ -15,10 +15,10 @@ namespace tools {
 /// This process's resident memory now (/proc/self/statm), in bytes. 0: unknown.
 std::uint64_t residentBytes();
 
-/// Bytes this process may add to what it holds now: the smallest of the machine's MemAvailable plus
-/// SwapFree (/proc/meminfo) and, for every level of its memory cgroup (v1 or v2) that has a limit, that
-/// limit less the level's usage without its file cache (which the kernel reclaims before it kills).
-/// Empty when /proc/meminfo cannot be read. `root`: a directory that stands for / (a test's made-up
+/// Bytes this process may add to what it holds now: the smallest of the machine's MemAvailable
+/// (/proc/meminfo; swap not counted, as resident memory does not count it) and, for every level of its memory cgroup
+/// (v1 or v2) that has a limit, that limit less the level's usage without its file cache (which the kernel reclaims
+/// before it kills). Empty when /proc/meminfo cannot be read. `root`: a directory that stands for / (a test's made-up
 /// /proc and /sys); empty for the real ones.
 std::optional<std::uint64_t> memoryHeadroomBytes(const std::string& root = std::string());
 

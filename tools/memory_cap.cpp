@@ -21,13 +21,16 @@ namespace tools {
 
 namespace {
 
-std::atomic<std::uint64_t> g_cap{0};   // the cap being enforced; 0 once it was reached
+std::atomic<std::uint64_t> g_cap{0};   // the cap being enforced: the one set, plus a reserve per refusal
 std::atomic<std::uint64_t> g_limit{0}; // the cap as set
 std::atomic<bool> g_reached{false};
 
 #ifndef DNG_SANITIZED
 /// Resident memory is read again after this many bytes more have been allocated.
 constexpr std::uint64_t kCheckEvery = std::uint64_t(16) << 20;
+
+/// What each refusal adds to the cap.
+constexpr std::uint64_t kReserve = std::uint64_t(64) << 20;
 
 std::atomic<std::uint64_t> g_allocated{0}; // every byte asked of operator new while a cap was set
 
@@ -40,7 +43,9 @@ void chargeAllocation(std::size_t size) {
   if (size < kCheckEvery && before / kCheckEvery == (before + size) / kCheckEvery) return;
   const std::uint64_t resident = residentBytes();
   if (resident == 0 || resident + size <= cap) return;
-  g_cap.store(0, std::memory_order_relaxed);
+  // Room for the unwinding and the report, and for a caller that recovers (std::stable_sort falls back
+  // to sorting in place): the limit moves up by a reserve per refusal, never away.
+  g_cap.fetch_add(kReserve, std::memory_order_relaxed);
   g_reached.store(true, std::memory_order_relaxed);
   throw std::bad_alloc();
 }

@@ -26,8 +26,8 @@ void setMemoryCap(std::uint64_t bytes);
 /// The cap as set (also after it was reached); 0: none.
 std::uint64_t memoryCap();
 
-/// Whether an allocation has been refused for the cap. The first refusal also lifts the cap, so that
-/// unwinding and the error report can allocate.
+/// Whether an allocation has been refused for the cap. Each refusal also raises the cap by 64 MB, so
+/// that unwinding and the error report can allocate.
 bool memoryCapReached();
 
 } // namespace tools

@@ -239,11 +239,6 @@ std::uint64_t peakMemoryBytes() {
 
 } // namespace
 
-BakeStatus outOfMemoryFailure() {
-  return BakeStatus::failure(BakeError::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
-                                                   "--resolution or a thinner --band");
-}
-
 // Nothing is written before the last stage, so an exception (memory running out in the band's grids,
 // an OpenVDB or TBB error) leaves no output behind; it only has to become a status instead of an abort.
 BakeStatus bake(const std::string& input, const BakeOutputs& outputs, const BakeOptions& options, ProgressFn progress,

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <new>
@@ -156,6 +157,15 @@ BakeStatus importAssimpInProcess(const std::string& path, const ImportOptions& o
     throw; // out of memory, not a broken file
   } catch (const std::exception& e) {
     return BakeStatus::failure(BakeError::kInvalidInput, std::string("assimp could not read it: ") + e.what());
+  }
+  // ReadFile catches what its readers throw and keeps it: memory running out is not a broken file.
+  if (scene == nullptr && importer.GetException() != nullptr) {
+    try {
+      std::rethrow_exception(importer.GetException());
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (...) { // reported below, through GetErrorString
+    }
   }
   if (scene == nullptr)
     return BakeStatus::failure(BakeError::kInvalidInput,

@@ -53,8 +53,11 @@ BakeStatus loadMesh(const std::string& path, TriangleSoup* out_soup);
 /// The failure for memory running out in any stage (std::bad_alloc: the machine's, or dngbake's
 /// --memory-limit): kInternal, saying what to change. Stages that catch what a library throws let
 /// std::bad_alloc through to bake(), which reports this; a process of its own (import_isolated.cpp)
-/// reports it itself.
-BakeStatus outOfMemoryFailure();
+/// reports it itself. Inline: the fuzz targets build the importers without bake.cpp.
+inline BakeStatus outOfMemoryFailure() {
+  return BakeStatus::failure(BakeError::kInternal, "out of memory while baking: use a larger --voxel-size, a smaller "
+                                                   "--resolution or a thinner --band");
+}
 
 MeshReport checkMesh(const TriangleSoup& soup);
 
