@@ -34,8 +34,9 @@ bool readKeyed(const std::string& path, const std::string& key, std::uint64_t un
   return false;
 }
 
-// A file's whole number, or kNoLimit for v2's "max" and v1's "no limit" (a page-rounded 2^63 - 1).
-bool readLimit(const std::string& path, std::uint64_t* out) {
+// A cgroup file's amount in bytes (a limit or a usage), or kNoLimit for v2's "max" and v1's "no limit"
+// (a page-rounded 2^63 - 1).
+bool readAmount(const std::string& path, std::uint64_t* out) {
   std::ifstream in(path);
   std::string text;
   if (!(in >> text)) return false;
@@ -54,8 +55,8 @@ bool readLimit(const std::string& path, std::uint64_t* out) {
 // no limit (or its files are not there: a level outside this mount namespace).
 std::uint64_t levelHeadroom(const std::string& dir, bool v2) {
   std::uint64_t limit = kNoLimit, usage = 0, inactive = 0, active = 0;
-  if (!readLimit(dir + (v2 ? "/memory.max" : "/memory.limit_in_bytes"), &limit) || limit == kNoLimit) return kNoLimit;
-  if (!readLimit(dir + (v2 ? "/memory.current" : "/memory.usage_in_bytes"), &usage)) return kNoLimit;
+  if (!readAmount(dir + (v2 ? "/memory.max" : "/memory.limit_in_bytes"), &limit) || limit == kNoLimit) return kNoLimit;
+  if (!readAmount(dir + (v2 ? "/memory.current" : "/memory.usage_in_bytes"), &usage)) return kNoLimit;
   const std::string stat = dir + "/memory.stat";
   readKeyed(stat, v2 ? "inactive_file" : "total_inactive_file", 1, &inactive);
   readKeyed(stat, v2 ? "active_file" : "total_active_file", 1, &active);
