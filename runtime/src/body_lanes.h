@@ -64,27 +64,47 @@ template <class P> DNG_LANE_INLINE V3 rotateToWorld(const P& pose, V3 v) {
 DNG_LANE_INLINE I bodyIndex(const StepBody&, std::int32_t listed) { return splatI(listed); }
 DNG_LANE_INLINE I bodyIndex(const LaneBodies& b, std::int32_t) { return b.index; }
 
-// The StepBody floats at `offset` bytes, of the bodies at `body` (prepared[body[lane]]).
-DNG_LANE_INLINE F gatherBodyFloat(const StepBody* prepared, I body, std::size_t offset) {
+// The `count` consecutive StepBody floats from `offset` bytes, of the bodies at `body`
+// (prepared[body[lane]]), two at a time (lanes.h gatherPair).
+template <int count>
+DNG_LANE_INLINE void gatherBodyFloats(const StepBody* prepared, I body, std::size_t offset, F* out) {
   constexpr auto stride = std::int32_t(sizeof(StepBody) / sizeof(float));
   static_assert(sizeof(StepBody) % sizeof(float) == 0, "bodies are gathered a float at a time");
   const float* base = reinterpret_cast<const float*>(reinterpret_cast<const char*>(prepared) + offset);
-  return gather(base, body * splatI(stride), allTrue());
+  const I at = body * splatI(stride);
+  for (int n = 0; n + 1 < count; n += 2)
+    gatherPair(base, at + splatI(n), allTrue(), &out[n], &out[n + 1]);
+  if (count % 2 != 0) out[count - 1] = gather(base, at + splatI(count - 1), allTrue());
 }
 
-DNG_LANE_INLINE V3 gatherBodyVec(const StepBody* prepared, I body, std::size_t offset) {
-  return {gatherBodyFloat(prepared, body, offset), gatherBodyFloat(prepared, body, offset + sizeof(float)),
-          gatherBodyFloat(prepared, body, offset + 2 * sizeof(float))};
-}
+// The floats of a Pose, in the order they lie in it, and of a StepBody's lo and hi, and of its linear
+// and angular velocities: gathered as runs.
+static_assert(sizeof(Pose) == 14 * sizeof(float) && offsetof(Pose, t) == 9 * sizeof(float) &&
+                  offsetof(Pose, scale) == 12 * sizeof(float) && offsetof(Pose, inv_scale) == 13 * sizeof(float),
+              "a Pose is 14 floats in a row");
+static_assert(offsetof(StepBody, hi) == offsetof(StepBody, lo) + sizeof(Vec3f) &&
+                  offsetof(StepBody, angular) == offsetof(StepBody, linear) + sizeof(Vec3f) &&
+                  sizeof(Vec3f) == 3 * sizeof(float),
+              "lo and hi, and linear and angular, are 6 floats in a row");
+static_assert(offsetof(StepBody, band_world) == offsetof(StepBody, travel) + sizeof(float),
+              "travel and band_world are neighbours");
 
 DNG_LANE_INLINE LanePose gatherPose(const StepBody* prepared, I body, std::size_t offset) {
+  F f[14];
+  gatherBodyFloats<14>(prepared, body, offset, f);
   LanePose p;
   for (int n = 0; n < 9; ++n)
-    p.r[n] = gatherBodyFloat(prepared, body, offset + offsetof(Pose, r) + std::size_t(n) * sizeof(float));
-  p.t = gatherBodyVec(prepared, body, offset + offsetof(Pose, t));
-  p.scale = gatherBodyFloat(prepared, body, offset + offsetof(Pose, scale));
-  p.inv_scale = gatherBodyFloat(prepared, body, offset + offsetof(Pose, inv_scale));
+    p.r[n] = f[n];
+  p.t = {f[9], f[10], f[11]};
+  p.scale = f[12], p.inv_scale = f[13];
   return p;
+}
+
+// Two V3s lying one after the other from `offset`.
+DNG_LANE_INLINE void gatherBodyVecs(const StepBody* prepared, I body, std::size_t offset, V3* first, V3* second) {
+  F f[6];
+  gatherBodyFloats<6>(prepared, body, offset, f);
+  *first = {f[0], f[1], f[2]}, *second = {f[3], f[4], f[5]};
 }
 
 /// The bodies `body` (one per lane, indices into `prepared`), which share `shared`'s field, into *out.
@@ -97,18 +117,17 @@ DNG_LANE_INLINE void gatherBodies(const StepBody* prepared, I body, const StepBo
   b.dense = shared.dense;
   b.margin = shared.margin, b.reach = shared.reach, b.roomy = shared.roomy, b.proof_level = shared.proof_level;
   b.start = gatherPose(prepared, body, offsetof(StepBody, start));
-  b.lo = gatherBodyVec(prepared, body, offsetof(StepBody, lo));
-  b.hi = gatherBodyVec(prepared, body, offsetof(StepBody, hi));
-  b.travel = gatherBodyFloat(prepared, body, offsetof(StepBody, travel));
-  b.band_world = gatherBodyFloat(prepared, body, offsetof(StepBody, band_world));
+  gatherBodyVecs(prepared, body, offsetof(StepBody, lo), &b.lo, &b.hi);
+  F travel_band[2];
+  gatherBodyFloats<2>(prepared, body, offsetof(StepBody, travel), travel_band);
+  b.travel = travel_band[0], b.band_world = travel_band[1];
   b.index = body;
   if (still) {
     b.end = b.start;
     b.linear = b.angular = splat(0.0f, 0.0f, 0.0f);
   } else {
     b.end = gatherPose(prepared, body, offsetof(StepBody, end));
-    b.linear = gatherBodyVec(prepared, body, offsetof(StepBody, linear));
-    b.angular = gatherBodyVec(prepared, body, offsetof(StepBody, angular));
+    gatherBodyVecs(prepared, body, offsetof(StepBody, linear), &b.linear, &b.angular);
   }
 }
 

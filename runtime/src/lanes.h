@@ -73,6 +73,29 @@ struct Lanes3 {
   alignas(kLaneAlign) float x[kWidth], y[kWidth], z[kWidth];
 };
 
+/// Each lane's base[index] and base[index + 1], for lanes of `m` (the others get 0). Sets with 64-bit
+/// gathers (DNG_LANES_PAIR_GATHER) load both words at once, half the elements of two gathers: a dense
+/// field's step, whose voxels are four floats, ran 10% faster with the AVX-512 kernels and 5% with the
+/// AVX2 ones (bench/swarm_hash, fandisk, an AMD EPYC). Any index will do: a 64-bit gather needs no
+/// alignment.
+#ifdef DNG_LANES_PAIR_GATHER
+DNG_LANE_INLINE void gatherPair(const float* base, I index, M m, F* first, F* second) {
+  I a, b;
+  gatherWordPair(base, index, m, &a, &b);
+  *first = asFloat(a), *second = asFloat(b);
+}
+DNG_LANE_INLINE void gatherPair(const std::uint32_t* base, I index, M m, I* first, I* second) {
+  gatherWordPair(base, index, m, first, second);
+}
+#else
+DNG_LANE_INLINE void gatherPair(const float* base, I index, M m, F* first, F* second) {
+  *first = gather(base, index, m), *second = gather(base, index + splatI(1), m);
+}
+DNG_LANE_INLINE void gatherPair(const std::uint32_t* base, I index, M m, I* first, I* second) {
+  *first = gather(base, index, m), *second = gather(base, index + splatI(1), m);
+}
+#endif
+
 #ifndef DNG_LANES_OWN_RECORDS
 /// The lanes of packed xyz triples: lane n is (p[3n], p[3n + 1], p[3n + 2]). Sets without lane permutes
 /// for this (lanes_avx512.h has them) transpose through an array.

@@ -111,6 +111,10 @@ DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, 
   one::gather(base, index.a, m.a, &out_lo->a, &out_hi->a);
   one::gather(base, index.b, m.b, &out_lo->b, &out_hi->b);
 }
+DNG_LANE_INLINE void gatherWordPair(const void* base, I index, M m, I* first, I* second) {
+  one::gatherWordPair(base, index.a, m.a, &first->a, &second->a);
+  one::gatherWordPair(base, index.b, m.b, &first->b, &second->b);
+}
 
 #undef DNG_PAIR_UNARY
 #undef DNG_PAIR_BINARY

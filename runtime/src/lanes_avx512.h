@@ -140,14 +140,15 @@ DNG_LANE_INLINE I gather(const std::uint32_t* base, I index, M m) {
   return {_mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m.a, index.a, base, 4),
           _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m.b, index.b, base, 4)};
 }
-// 16 lanes of 64-bit words as their low and high halves: each 64-bit gather takes eight lanes, under
-// its half of the mask; even 32-bit words are low halves, odd ones high (indices 16 and up pick from
-// the second).
-DNG_LANE_INLINE void gather64(const std::uint64_t* base, __m512i index, __mmask16 m, __m512i* lo, __m512i* hi) {
+// 16 lanes of 64-bit words at base + kScale * index bytes, as their low and high halves: each 64-bit
+// gather takes eight lanes, under its half of the mask; even 32-bit words are low halves, odd ones
+// high (indices 16 and up pick from the second).
+template <int kScale>
+DNG_LANE_INLINE void gather64(const void* base, __m512i index, __mmask16 m, __m512i* lo, __m512i* hi) {
   const __m512i first =
-      _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), __mmask8(m), _mm512_castsi512_si256(index), base, 8);
+      _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), __mmask8(m), _mm512_castsi512_si256(index), base, kScale);
   const __m512i second = _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), __mmask8(m >> 8),
-                                                     _mm512_extracti64x4_epi64(index, 1), base, 8);
+                                                     _mm512_extracti64x4_epi64(index, 1), base, kScale);
   const __m512i even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
   const __m512i odd = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
   *lo = _mm512_permutex2var_epi32(first, even, second);
@@ -161,8 +162,15 @@ DNG_LANE_INLINE void scatter(float* base, I index, M m, F x) {
 }
 /// 64-bit words, returned as their low and high halves.
 DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, I* out_hi) {
-  gather64(base, index.a, m.a, &out_lo->a, &out_hi->a);
-  gather64(base, index.b, m.b, &out_lo->b, &out_hi->b);
+  gather64<8>(base, index.a, m.a, &out_lo->a, &out_hi->a);
+  gather64<8>(base, index.b, m.b, &out_lo->b, &out_hi->b);
+}
+/// The 32-bit words base[index] and base[index + 1] of each lane, as one 64-bit load (lanes.h
+/// gatherPair): half the gathered elements of two gathers.
+#define DNG_LANES_PAIR_GATHER 1
+DNG_LANE_INLINE void gatherWordPair(const void* base, I index, M m, I* first, I* second) {
+  gather64<4>(base, index.a, m.a, &first->a, &second->a);
+  gather64<4>(base, index.b, m.b, &first->b, &second->b);
 }
 
 // ---- packed records: a few floats per lane, one lane after the other in memory ----

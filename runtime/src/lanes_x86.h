@@ -145,21 +145,31 @@ DNG_LANE_INLINE I gather(const std::uint32_t* base, I index, M m) {
   return {_mm256_mask_i32gather_epi32(_mm256_setzero_si256(), reinterpret_cast<const int*>(base), index.v,
                                       _mm256_castps_si256(m.v), 4)};
 }
-/// 64-bit words, returned as their low and high halves.
-DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, I* out_hi) {
-  const auto* b = reinterpret_cast<const long long*>(base);
+// 64-bit words at base + kScale * index bytes, as their low and high halves.
+template <int kScale> DNG_LANE_INLINE void gather64(const void* base, I index, M m, I* out_lo, I* out_hi) {
+  const auto* b = static_cast<const long long*>(base);
   const __m256i mi = _mm256_castps_si256(m.v);
   // Each 64-bit gather takes four lanes; its mask is the 32-bit mask widened.
   const __m256i first = _mm256_mask_i32gather_epi64(_mm256_setzero_si256(), b, _mm256_castsi256_si128(index.v),
-                                                    _mm256_cvtepi32_epi64(_mm256_castsi256_si128(mi)), 8);
+                                                    _mm256_cvtepi32_epi64(_mm256_castsi256_si128(mi)), kScale);
   const __m256i second = _mm256_mask_i32gather_epi64(_mm256_setzero_si256(), b, _mm256_extracti128_si256(index.v, 1),
-                                                     _mm256_cvtepi32_epi64(_mm256_extracti128_si256(mi, 1)), 8);
+                                                     _mm256_cvtepi32_epi64(_mm256_extracti128_si256(mi, 1)), kScale);
   // Even 32-bit words are low halves, odd ones high: sort each register into [lo x4 | hi x4].
   const __m256i split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
   const __m256i a = _mm256_permutevar8x32_epi32(first, split);
   const __m256i c = _mm256_permutevar8x32_epi32(second, split);
   out_lo->v = _mm256_permute2x128_si256(a, c, 0x20);
   out_hi->v = _mm256_permute2x128_si256(a, c, 0x31);
+}
+/// 64-bit words, returned as their low and high halves.
+DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, I* out_hi) {
+  gather64<8>(base, index, m, out_lo, out_hi);
+}
+/// The 32-bit words base[index] and base[index + 1] of each lane, as one 64-bit load (lanes.h
+/// gatherPair): half the gathered elements of two gathers.
+#define DNG_LANES_PAIR_GATHER 1
+DNG_LANE_INLINE void gatherWordPair(const void* base, I index, M m, I* first, I* second) {
+  gather64<4>(base, index, m, first, second);
 }
 #else
 // SSE4.1 has no gather instruction: four scalar loads.

@@ -343,8 +343,8 @@ DNG_LANE_INLINE M meetsCellBox(const QuantizedMoves& q, I box) {
 // kernels test both again. Every other lane gets an empty list. Returns the lanes whose lists
 // overflow.
 DNG_LANE_INLINE M listOneCellEach(const IndexGrid& g, M listed, const LaneCellRange& r, LaneLists* out) {
-  const I start = gather(g.cell_start, r.cell, listed);
-  const I stop = gather(g.cell_start, r.cell + splatI(1), listed);
+  I start, stop;
+  gatherPair(g.cell_start, r.cell, listed, &start, &stop);
   const F length = toFloat(stop + start * splatI(-1)); // a cell's count: small, exact as a float
   const QuantizedMoves moves = quantizeMoves(r);
   I count = splatI(0);

@@ -89,8 +89,9 @@ DNG_LANE_INLINE LaneVoxel denseVoxel(const View& view, I i, I j, I k, M m) {
   const GridInfo& g = view.grid();
   const I at = shiftLeft(denseIndex(view, i, j, k), 2); // four floats per voxel: distance, normal
   const float* base = reinterpret_cast<const float*>(ViewInternals::dense(view));
-  LaneVoxel v{gather(base, at, m),
-              {gather(base, at + splatI(1), m), gather(base, at + splatI(2), m), gather(base, at + splatI(3), m)}};
+  LaneVoxel v;
+  gatherPair(base, at, m, &v.distance, &v.normal.x);
+  gatherPair(base, at + splatI(2), m, &v.normal.y, &v.normal.z);
   const F band = splat(g.band);
   const M far = ~(abs(v.distance) < band);
   v.distance = select(far, copysign(band, v.distance), v.distance);
