@@ -15,6 +15,13 @@ def medians(path, counter, scale=1e9):
     return data["context"], out
 
 
+def repetitions(path):
+    """How many repetitions each benchmark of the file ran (bench/run.sh passes one count per program)."""
+    with open(path) as f:
+        data = json.load(f)
+    return max(b.get("repetitions", 1) for b in data["benchmarks"])
+
+
 def spreads(path, counter):
     """The coefficient of variation of `counter` across repetitions, per benchmark."""
     with open(path) as f:
@@ -151,8 +158,8 @@ def table1_section(path, table_mesh="fandisk"):
           "the row says so. Fields: `dngbake`'s defaults at resolution 128 (normal-blur, band 4 voxels), baked in "
           "process; the level set is OpenVDB's `meshToLevelSet` on the same lattice, voxel size and band, "
           "converted to NanoVDB. Times are the stepping thread's CPU time (the machine is shared: time spent descheduled "
-          "is not the method's), medians of 5 repetitions run in random order among all the rows.\n" % (table_mesh, format(first["triangles"], ","),
-                                         " and ".join(format(n, ",") for n in counts), "8"))
+          "is not the method's), medians of %d repetitions run in random order among all the rows.\n" % (table_mesh, format(first["triangles"], ","),
+                                         " and ".join(format(n, ",") for n in counts), "8", repetitions(path)))
     print("- **no collision**: respawn, gravity and `p += v dt`: the baseline every ratio divides by. The peers' own "
           "code (this loop, the NanoVDB steppers, the Embree callers) is built with `-march=native "
           "-fno-math-errno`, as a release build for this machine would be; dngrid's runtime picks its SIMD "
@@ -380,9 +387,9 @@ def bodies_section(path):
           "scale (4 to 8 wide, 8 to 16 tall) and turn, on a 40 x 25 lattice 20 units apart (no two buildings' grids overlap), on a ground slab (a "
           "second field); 100,000 raindrops anywhere up to 20 units high, falling at about 12 units/s, in random "
           "order. One step = `applyGravity` + `BodyIndex::rebuild` (the broadphase rows: an engine pays it every "
-          "frame) + `stepParticles`; every iteration restarts from the same state. Rows' repetitions interleaved; "
-          "run of %s.\n"
-          % data["context"].get("date", "?"))
+          "frame) + `stepParticles`; every iteration restarts from the same state. Medians of the rows' %d "
+          "repetitions, interleaved; run of %s.\n"
+          % (repetitions(path), data["context"].get("date", "?")))
     print("| bodies | ns/particle | vs its 1-body baseline |")
     print("|---|---:|---:|")
     base = {0: rows[0][0], 1: rows[0][0], 2: rows[0][0], 3: rows[3][0], 4: rows[3][0], 5: rows[5][0], 6: rows[5][0]}
@@ -410,12 +417,14 @@ def bodies_section(path):
           "from several chunks, they are stepped together. A chunk steps its lanes' bodies slot by slot: in "
           "random order the lanes' different buildings (one field, one material, one kind noted by the index) run "
           "in one pass with each lane's body gathered; in lattice order a chunk's lanes mostly share their "
-          "building. A profile of the random-order buildings (sampled, AVX-512 kernels) puts about a third of the "
-          "kernels' time in listing each lane's bodies (the cells' coarse boxes gathered and tested, about a "
-          "quarter; lanes whose moves cross a cell wall, listed one at a time, about 5%%), about a fifth in making "
-          "the slots (each lane's pose, box and band gathered a float at a time), about a quarter in the "
-          "responses and the walks, and the rest in loading, queueing and storing the chunks. The faster "
-          "single-body kernels (AVX-512) make those shares, and the ratio, larger."
+          "building. A profile of the random-order buildings (perf with line information, AVX-512 kernels) puts "
+          "about a third of the time in listing each lane's bodies (the cells' coarse boxes gathered and tested "
+          "14%%, each cell's first and last entry 5%%, the bodies of the entries that met 3%%, lanes whose moves "
+          "cross a cell wall, listed one at a time, 4%%), 15%% in making the slots (each lane's pose, box and "
+          "band gathered, two floats per gathered element, 8%%; choosing the slots lane by lane 7%%), a fifth "
+          "in the responses and the balls, 7%% in the set-aside walks, and the rest in loading, queueing and "
+          "storing the chunks. The faster single-body kernels (AVX-512) make those shares, and the ratio, "
+          "larger."
           % (same_work, "reached" if same_work <= 2.0 else "not reached", literal,
              "reached" if literal <= 2.0 else "not reached", rows[6][0] / rows[5][0], rows[2][0] / rows[0][0]))
 
@@ -431,9 +440,9 @@ def threads_section(path):
           "minimal job system's workers, started once and spinning "
           "between frames, the calling thread taking the first half itself; each iteration steps 8 consecutive "
           "frames from the same start, so each half stays in its worker's cache as in a game (%d CPUs; "
-          "repetitions interleaved; run of %s). "
+          "medians of %d repetitions, interleaved; run of %s). "
           "On a machine whose cores other work shares, the second thread gets what is left of the second core.\n"
-          % (context.get("num_cpus", 0), context.get("date", "?")))
+          % (context.get("num_cpus", 0), repetitions(path), context.get("date", "?")))
     _, cpu = medians(path, "cpu_ms_busiest_thread", scale=1.0)  # already milliseconds
     cpu_one, cpu_two = cpu["BM_Threads/1/real_time"][0], cpu["BM_Threads/2/real_time"][0]
     print("The last columns time the busiest thread's CPU alone, which time spent descheduled does not count.\n")
@@ -454,11 +463,12 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     raw = {0: m["BM_RawArray/0"][0], 1: m["BM_RawArray/1"][0]}
     nano = {k: m.get("BM_NanoVdb/%d" % k, (None,))[0] for k in (0, 1)}
     print("# Performance\n")
-    print("Written by `bash setup.sh bench` (bench/run.sh); do not edit by hand. Medians of 5 repetitions, "
-          "measured on %s (%s, %d CPUs, %s). Absolute times on shared machines drift by tens of percent between "
-          "runs; the ratios to baselines measured in the same run are the figures to compare, on the same CPU "
-          "model: between CPU makers they differ too.\n"
-          % (context.get("host_name", "?"), context.get("cpu_model", "CPU model not recorded"),
+    print("Written by `bash setup.sh bench` (bench/run.sh); do not edit by hand. Medians of %d repetitions (Table 1, "
+          "the many bodies and the threads: each section says how many), measured on %s (%s, %d CPUs, %s). "
+          "Absolute times on shared machines drift by tens of percent between runs; the ratios to baselines "
+          "measured in the same run are the figures to compare, on the same CPU model: between CPU makers they "
+          "differ too.\n"
+          % (repetitions(path), context.get("host_name", "?"), context.get("cpu_model", "CPU model not recorded"),
              context.get("num_cpus", 0), context.get("date", "?")))
     print("## Field queries (bench/field_query_bench.cpp)\n")
     print("A 128^3 sphere field (radius 48 voxels, band 3 voxels); the same ~116k points within 2 voxels of the "
