@@ -100,6 +100,34 @@ TEST_F(MachineMemoryTest, AFullCgroupLeavesNothing) {
   EXPECT_EQ(headroom(), 0u);
 }
 
+// The mounts come from /proc/self/mountinfo: a v1 memory hierarchy mounted somewhere unusual (a space
+// in its path, written \040 there) is read there, not at /sys/fs/cgroup/memory, whose made-up tree here
+// says otherwise.
+TEST_F(MachineMemoryTest, CgroupMountsAreFoundWhereverTheyAre) {
+  meminfo(20000, 0);
+  write("proc/self/mountinfo", "30 22 0:27 / /sys/fs/cgroup rw,relatime - tmpfs tmpfs rw,mode=755\n"
+                               "31 30 0:28 / /sys/fs/cgroup/cpu rw,relatime - cgroup cgroup rw,cpu\n"
+                               "34 22 0:31 / /cgroup/mem\\040ory rw,relatime shared:9 - cgroup cgroup rw,memory\n");
+  write("proc/self/cgroup", "3:cpu:/\n4:memory:/jobs\n");
+  levelV1("/jobs", std::to_string(100 * kMiB), 10, 0); // the decoy at the usual place
+  const std::string level = "cgroup/mem ory/jobs";
+  write(level + "/memory.limit_in_bytes", std::to_string(3000 * kMiB) + "\n");
+  write(level + "/memory.usage_in_bytes", std::to_string(1000 * kMiB) + "\n");
+  EXPECT_EQ(headroom(), 2000 * kMiB);
+}
+
+// A container without its own cgroup namespace sees its host's path in /proc/self/cgroup and a mount
+// whose root is that path: the levels are found below the mount's root, the container's own level
+// first (here a job inside the container, tighter than the container).
+TEST_F(MachineMemoryTest, AMountShowingItsContainersBranchIsReadBelowIt) {
+  meminfo(20000, 0);
+  write("proc/self/mountinfo", "34 30 0:31 /docker/abc /sys/fs/cgroup/memory ro,nosuid - cgroup cgroup rw,memory\n");
+  write("proc/self/cgroup", "4:memory:/docker/abc/job\n");
+  levelV1("", std::to_string(3000 * kMiB), 500, 0);     // the container: 2500 left
+  levelV1("/job", std::to_string(1000 * kMiB), 400, 0); // its job: 600 left
+  EXPECT_EQ(headroom(), 600 * kMiB);
+}
+
 TEST_F(MachineMemoryTest, WithoutMeminfoTheHeadroomIsUnknown) {
   EXPECT_FALSE(tools::memoryHeadroomBytes(root()).has_value());
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace dng {
 namespace tools {
@@ -78,9 +79,66 @@ std::uint64_t cgroupHeadroom(const std::string& mount, std::string path, bool v2
   return least;
 }
 
-// The cgroups of this process (/proc/self/cgroup: "id:controllers:path"): the v1 memory hierarchy's,
-// and v2's (mounted at /sys/fs/cgroup, or at /sys/fs/cgroup/unified beside v1 controllers).
+// A cgroup file system mounted here: where (under `root`), which part of the hierarchy its root shows,
+// and whether it is v2's or v1's memory controller.
+struct CgroupMount {
+  std::string point, shows;
+  bool v2 = false;
+};
+
+// mountinfo writes a space, tab, newline or backslash in a path as a backslash and three octal digits.
+std::string unescapeMountPath(const std::string& text) {
+  const auto octal = [](char c) { return c >= '0' && c <= '7'; };
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\\' && i + 3 < text.size() && octal(text[i + 1]) && octal(text[i + 2]) && octal(text[i + 3])) {
+      out += char((text[i + 1] - '0') * 64 + (text[i + 2] - '0') * 8 + (text[i + 3] - '0'));
+      i += 3;
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+// The memory cgroup mounts of /proc/self/mountinfo ("id parent dev shows point options [tags] - type
+// source super-options"): type cgroup2, or cgroup with the memory controller among its options. Where
+// the file cannot be read or lists none, the usual places: v2 at /sys/fs/cgroup (or /sys/fs/cgroup/unified
+// beside v1 controllers), v1's memory at /sys/fs/cgroup/memory, each showing the whole hierarchy.
+std::vector<CgroupMount> cgroupMounts(const std::string& root) {
+  std::vector<CgroupMount> mounts;
+  std::ifstream in(root + "/proc/self/mountinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string id, parent, dev, shows, point, word;
+    if (!(fields >> id >> parent >> dev >> shows >> point)) continue;
+    while (fields >> word && word != "-") {
+    }
+    std::string type, source, options;
+    if (!(fields >> type >> source >> options)) continue;
+    const bool v1_memory = type == "cgroup" && ("," + options + ",").find(",memory,") != std::string::npos;
+    if (type == "cgroup2" || v1_memory)
+      mounts.push_back({root + unescapeMountPath(point), unescapeMountPath(shows), type == "cgroup2"});
+  }
+  if (!mounts.empty()) return mounts;
+  return {{root + "/sys/fs/cgroup", "/", true},
+          {root + "/sys/fs/cgroup/unified", "/", true},
+          {root + "/sys/fs/cgroup/memory", "/", false}};
+}
+
+// `path` (from /proc/self/cgroup) below a mount that shows `shows` of the hierarchy: the part past it,
+// or all of it when the mount shows the root (or another branch, as a cgroup namespace's mounts do).
+std::string pathUnder(const std::string& path, const std::string& shows) {
+  if (shows == "/" || path.compare(0, shows.size(), shows) != 0) return path;
+  if (path.size() != shows.size() && path[shows.size()] != '/') return path;
+  return path.substr(shows.size());
+}
+
+// The cgroups of this process (/proc/self/cgroup: "id:controllers:path"): v2's (controllers empty) and
+// the v1 memory hierarchy's, each under every mount of its kind.
 std::uint64_t cgroupsHeadroom(const std::string& root) {
+  const std::vector<CgroupMount> mounts = cgroupMounts(root);
   std::ifstream in(root + "/proc/self/cgroup");
   std::string line;
   std::uint64_t least = kNoLimit;
@@ -89,12 +147,10 @@ std::uint64_t cgroupsHeadroom(const std::string& root) {
     if (first == std::string::npos || second == std::string::npos) continue;
     const std::string controllers = "," + line.substr(first + 1, second - first - 1) + ",";
     const std::string path = line.substr(second + 1);
-    if (controllers == ",,") {
-      for (const char* mount : {"/sys/fs/cgroup", "/sys/fs/cgroup/unified"})
-        least = std::min(least, cgroupHeadroom(root + mount, path, true));
-    } else if (controllers.find(",memory,") != std::string::npos) {
-      least = std::min(least, cgroupHeadroom(root + "/sys/fs/cgroup/memory", path, false));
-    }
+    const bool v2 = controllers == ",,";
+    if (!v2 && controllers.find(",memory,") == std::string::npos) continue;
+    for (const CgroupMount& mount : mounts)
+      if (mount.v2 == v2) least = std::min(least, cgroupHeadroom(mount.point, pathUnder(path, mount.shows), v2));
   }
   return least;
 }

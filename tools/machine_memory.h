@@ -17,9 +17,9 @@ std::uint64_t residentBytes();
 
 /// Bytes this process may add to what it holds now: the smallest of the machine's MemAvailable
 /// (/proc/meminfo; swap not counted, as resident memory does not count it) and, for every level of its memory cgroup
-/// (v1 or v2) that has a limit, that limit less the level's usage without its file cache (which the kernel reclaims
-/// before it kills). Empty when /proc/meminfo cannot be read. `root`: a directory that stands for / (a test's made-up
-/// /proc and /sys); empty for the real ones.
+/// (v1 or v2, mounted where /proc/self/mountinfo says) that has a limit, that limit less the level's usage without its
+/// file cache (which the kernel reclaims before it kills). Empty when /proc/meminfo cannot be read. `root`: a directory
+/// that stands for / (a test's made-up /proc and /sys); empty for the real ones.
 std::optional<std::uint64_t> memoryHeadroomBytes(const std::string& root = std::string());
 
 } // namespace tools
