@@ -9,6 +9,7 @@
 #include "test_meshes.h"
 
 #include "run_program.h"
+#include "sanitized_build.h" // tools/
 #include "temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -838,19 +839,10 @@ TEST_F(BakeTest, OutputsThatWouldDestroySomethingAreRefused) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "leftover " << entry.path();
 }
 
-// Built with AddressSanitizer or ThreadSanitizer: GCC defines the first two names, clang answers __has_feature.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define DNG_TEST_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define DNG_TEST_SANITIZED 1
-#endif
-#endif
-
 // Memory running out inside OpenVDB, TBB or Embree is an error with its exit code, not an abort, and
 // the previous output survives. The address-space limit would break the sanitizers' own mappings.
 TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
-#ifdef DNG_TEST_SANITIZED
+#ifdef DNG_SANITIZED_BUILD
   GTEST_SKIP() << "an address-space limit and a sanitizer runtime do not mix";
 #endif
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("big.obj"));
@@ -868,7 +860,7 @@ TEST_F(BakeTest, RunningOutOfMemoryIsAnErrorNotACrash) {
 // killed by the kernel (exit 137, no message) where the machine or its container runs out. The limit
 // holds: the peak stays near it. Nothing is written; the previous output survives.
 TEST_F(BakeTest, MemoryLimitStopsABakeThatWouldOutgrowIt) {
-#ifdef DNG_TEST_SANITIZED
+#ifdef DNG_SANITIZED_BUILD
   GTEST_SKIP() << "the memory limit replaces operator new, which a sanitizer runtime owns";
 #endif
   testing::writeObj(testing::boxMesh({0, 0, 0}, {1, 1, 1}), path("big.obj"));
@@ -897,7 +889,7 @@ TEST_F(BakeTest, MemoryLimitStopsABakeThatWouldOutgrowIt) {
 // Memory that runs out while a reader holds it (OpenMesh's, here) is out of memory too, exit 4, not an
 // unreadable file (exit 2): the readers' own error handling lets std::bad_alloc through.
 TEST_F(BakeTest, MemoryRunningOutWhileLoadingIsNotAnUnreadableFile) {
-#ifdef DNG_TEST_SANITIZED
+#ifdef DNG_SANITIZED_BUILD
   GTEST_SKIP() << "the memory limit replaces operator new, which a sanitizer runtime owns";
 #endif
   // A binary STL: its guard reads facets into a fixed buffer, so the first 16 MB allocated, where the
@@ -942,7 +934,7 @@ std::uint64_t meminfoKilobytes(const std::string& key) {
 // has free then: some, never more than its memory and swap. `none` lifts it; a size is taken in bytes,
 // k = 1024, its digits decimal.
 TEST_F(BakeTest, MemoryLimitDefaultsToTheMachinesFreeMemory) {
-#ifdef DNG_TEST_SANITIZED
+#ifdef DNG_SANITIZED_BUILD
   GTEST_SKIP() << "the memory limit replaces operator new, which a sanitizer runtime owns";
 #endif
   const std::uint64_t total = (meminfoKilobytes("MemTotal") + meminfoKilobytes("SwapTotal")) * 1024;

@@ -1,20 +1,11 @@
 #include "memory_cap.h"
 
 #include "machine_memory.h"
+#include "sanitized_build.h"
 
 #include <atomic>
 #include <cstdlib>
 #include <new>
-
-// Built with AddressSanitizer or ThreadSanitizer: GCC defines the first two names, clang answers
-// __has_feature. Their runtimes replace operator new themselves.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define DNG_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define DNG_SANITIZED 1
-#endif
-#endif
 
 namespace dng {
 namespace tools {
@@ -25,7 +16,7 @@ std::atomic<std::uint64_t> g_cap{0};   // the cap being enforced: the one set, p
 std::atomic<std::uint64_t> g_limit{0}; // the cap as set
 std::atomic<bool> g_reached{false};
 
-#ifndef DNG_SANITIZED
+#ifndef DNG_SANITIZED_BUILD
 /// Resident memory is read again after this many bytes more have been allocated.
 constexpr std::uint64_t kCheckEvery = std::uint64_t(16) << 20;
 
@@ -54,7 +45,7 @@ void chargeAllocation(std::size_t size) {
 } // namespace
 
 bool memoryCapSupported() {
-#ifdef DNG_SANITIZED
+#ifdef DNG_SANITIZED_BUILD
   return false;
 #else
   return true;
@@ -74,7 +65,7 @@ bool memoryCapReached() { return g_reached.load(std::memory_order_relaxed); }
 } // namespace tools
 } // namespace dng
 
-#ifndef DNG_SANITIZED
+#ifndef DNG_SANITIZED_BUILD
 // The one replacement the cap needs: libstdc++'s array and nothrow forms call this one. Its other
 // operators (delete, aligned new) pair with malloc and free as before.
 void* operator new(std::size_t size) {
