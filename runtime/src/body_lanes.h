@@ -107,6 +107,20 @@ DNG_LANE_INLINE void gatherBodyVecs(const StepBody* prepared, I body, std::size_
   *first = {f[0], f[1], f[2]}, *second = {f[3], f[4], f[5]};
 }
 
+/// Whether the bodies at `body` (indices into `prepared`) are all still (StepBody::still) in the lanes of
+/// `m`: the flag's byte taken from one gather of the 32-bit word that holds it.
+DNG_LANE_INLINE bool allStill(const StepBody* prepared, I body, M m) {
+  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the flag's byte is found by its address");
+  static_assert(sizeof(bool) == 1 && sizeof(StepBody) % sizeof(std::uint32_t) == 0, "whole words per body");
+  constexpr std::size_t word = offsetof(StepBody, still) / sizeof(std::uint32_t) * sizeof(std::uint32_t);
+  constexpr int shift = int(offsetof(StepBody, still) - word) * 8;
+  const auto* base = reinterpret_cast<const std::uint32_t*>(reinterpret_cast<const char*>(prepared) + word);
+  const I flag = shiftRight(gather(base, body * splatI(std::int32_t(sizeof(StepBody) / sizeof(std::uint32_t))), m),
+                            shift) &
+                 splatI(0xFF);
+  return !any(m & (flag == splatI(0)));
+}
+
 /// The bodies `body` (one per lane, indices into `prepared`), which share `shared`'s field, into *out.
 /// Bodies all `still` (StepBody::still) skip gathering what they share: the end pose is the start pose,
 /// and the velocities are +0, the same bits gathered or splatted.

@@ -73,6 +73,27 @@ struct Lanes3 {
   alignas(kLaneAlign) float x[kWidth], y[kWidth], z[kWidth];
 };
 
+/// Each lane's own number: lane n holds n (for indexing arrays laid out lane by lane).
+DNG_LANE_INLINE I laneNumbers() {
+  alignas(kLaneAlign) static constexpr std::int32_t kNumbers[32] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10,
+                                                                     11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
+                                                                     22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
+  static_assert(kWidth <= 32, "a number for every lane");
+  I out;
+  std::memcpy(&out, kNumbers, sizeof out);
+  return out;
+}
+
+/// The smallest of the lanes of `x`.
+DNG_LANE_INLINE std::int32_t lowestValue(I x) {
+  alignas(kLaneAlign) std::int32_t lane[kWidth];
+  std::memcpy(lane, &x, sizeof lane);
+  std::int32_t low = lane[0];
+  for (int n = 1; n < kWidth; ++n)
+    low = lane[n] < low ? lane[n] : low;
+  return low;
+}
+
 /// Each lane's base[index] and base[index + 1], for lanes of `m` (the others get 0). Sets with 64-bit
 /// gathers (DNG_LANES_PAIR_GATHER) load both words at once, half the elements of two gathers: a dense
 /// field's step, whose voxels are four floats, ran 10% faster with the AVX-512 kernels and 5% with the

@@ -34,50 +34,61 @@ struct ChunkSlots {
   LaneBodies each[kMax];
 };
 
-// Whether body b steps as body `first` (`shared`, `material`) does but for its own numbers: the same
-// field and material. By the index's kinds where they hold for the call (a kind's bodies have both),
-// else compared.
-DNG_LANE_INLINE bool sameKind(const StepBatch& batch, std::int32_t b, std::int32_t first, const StepBody& shared,
-                              const Material& material) {
-  if (batch.kinds != nullptr && batch.kinds[b] == batch.kinds[first]) return true;
-  return batch.prepared[b].field == shared.field && sameMaterial(batch.bodies[b].material(), material);
+// The lanes of `m` whose bodies (`body`) step as body `first` (`shared`, `material`) does but for their
+// own numbers: the same field and material. By the index's kinds where they hold for the call (a
+// kind's bodies have both), one gather; lanes of other kinds (a kind is not always unique) compared
+// one at a time.
+DNG_LANE_INLINE M sameKind(const StepBatch& batch, I body, std::int32_t first, const StepBody& shared,
+                           const Material& material, M m) {
+  LaneBits same = 0, rest = bits(m);
+  if (batch.kinds != nullptr) {
+    const I kind = gather(reinterpret_cast<const std::uint32_t*>(batch.kinds), body, m);
+    same = bits(m & (kind == splatI(batch.kinds[first])));
+    rest &= ~same;
+  }
+  if (rest == 0) return laneMask(same);
+  alignas(kLaneAlign) std::int32_t b[kWidth];
+  std::memcpy(b, &body, sizeof b);
+  for (; rest != 0; rest &= rest - 1) {
+    const int lane = lowestLane(rest);
+    if (batch.prepared[b[lane]].field == shared.field && sameMaterial(batch.bodies[b[lane]].material(), material))
+      same |= laneBit(lane);
+  }
+  return laneMask(same);
 }
 
 // The next slot: the lowest of the next bodies of the lanes `left`, and the next body of every other
 // lane of `left` whose next body is of the same kind, each lane's taken from its list (its position
 // `next` advanced, and the lane out of *left once its list is done). Taking the lowest first lets a
 // body that every lane lists, such as a ground, wait until each lane reaches it, so it takes one slot.
-// One body for every lane is kept as it is; different bodies are gathered.
-DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, int* next, LaneBits* left,
+// One body for every lane is kept as it is; different bodies are gathered. In registers: lane by lane,
+// the choice took about 7% of a city's step (bench/many_bodies_bench, perf).
+DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, I* next, LaneBits* left,
                               ChunkSlots* out) {
   const int k = out->count++;
-  std::int32_t first = std::numeric_limits<std::int32_t>::max();
-  for (LaneBits l = *left; l != 0; l &= l - 1)
-    first = std::min(first, lists.body[next[lowestLane(l)]][lowestLane(l)]);
+  const M in = laneMask(*left);
+  // lists.body[next][lane] for each lane of `left`.
+  const I body = gather(reinterpret_cast<const std::uint32_t*>(&lists.body[0][0]),
+                        *next * splatI(kWidth) + laneNumbers(), in);
+  const std::int32_t first = lowestValue(select(in, body, splatI(std::numeric_limits<std::int32_t>::max())));
   const StepBody& shared = batch.prepared[first];
   const Material& material = batch.bodies[first].material();
-  alignas(kLaneAlign) std::int32_t body[kWidth];
-  LaneBits on = 0, others = 0;
-  bool still = shared.still;
-  for (LaneBits l = *left; l != 0; l &= l - 1) {
-    const int lane = lowestLane(l);
-    const std::int32_t b = lists.body[next[lane]][lane];
-    if (b != first && !sameKind(batch, b, first, shared, material)) continue;
-    body[lane] = b;
-    on |= laneBit(lane);
-    if (b != first) others |= laneBit(lane), still = still && batch.prepared[b].still;
-    if (++next[lane] == lists.count[lane]) *left &= ~(laneBit(lane));
-  }
-  out->on[k] = on;
+  const M is_first = in & (body == splatI(first));
+  const M others = sameKind(batch, body, first, shared, material, andNot(in, is_first));
+  const M on = is_first | others;
+  *next = *next + select(on, splatI(1), splatI(0));
+  I count;
+  std::memcpy(&count, lists.count, sizeof count);
+  *left &= ~bits(on & (*next == count));
+  out->on[k] = bits(on);
   out->material[k] = &material;
-  out->one[k] = others == 0 ? &shared : nullptr;
+  out->one[k] = any(others) ? nullptr : &shared;
   out->one_index[k] = first;
-  if (others == 0) return;
-  for (LaneBits l = allLanes() & ~on; l != 0; l &= l - 1)
-    body[lowestLane(l)] = first; // lanes without a body here read the first's numbers (and stay off)
-  I index;
-  std::memcpy(&index, body, sizeof index);
-  gatherBodies(batch.prepared, index, shared, still, &out->each[k]);
+  if (!any(others)) return;
+  // Lanes without a body here read the first's numbers (and stay off).
+  const I index = select(on, body, splatI(first));
+  gatherBodies(batch.prepared, index, shared, shared.still && allStill(batch.prepared, index, others),
+               &out->each[k]);
 }
 
 /// The chunk's slots for the live lanes' lists. Each lane's bodies keep their order (a lane's k-th body
@@ -87,7 +98,7 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, in
 /// chunk goes the union way then.
 DNG_LANE_INLINE bool makeSlots(const StepBatch& batch, const LaneLists& lists, M live, ChunkSlots* out) {
   out->count = 0;
-  int next[kWidth] = {};
+  I next = splatI(0);
   // The lanes with a body, from their counts as a register: a branch per lane here mispredicted with
   // particles in random order (bench/many_bodies_bench).
   I count;
@@ -96,7 +107,7 @@ DNG_LANE_INLINE bool makeSlots(const StepBatch& batch, const LaneLists& lists, M
   if (left != 0 && !batch.gatherable) return false;
   while (left != 0) {
     if (out->count == ChunkSlots::kMax) return false;
-    nextSlot(batch, lists, next, &left, out);
+    nextSlot(batch, lists, &next, &left, out);
   }
   return true;
 }
