@@ -20,6 +20,7 @@
 #   bash setup.sh fuzz-meshes [SECONDS]  fuzz mesh loading, open-ended (default 300 s)
 #   bash setup.sh fuzz-scenes [SECONDS]  fuzz the glTF importer, open-ended (default 300 s)
 #   bash setup.sh fuzz-assimp [SECONDS]  fuzz assimp's readers in process, open-ended (default 300 s)
+#   bash setup.sh ccache-stats   print the compiler cache's hits and misses (DNG_CCACHE=ON builds)
 #
 # Environment: DNG_WERROR=ON turns warnings into errors (CI sets it). DNG_JOBS sets build parallelism.
 # DNG_CCACHE=ON compiles through ccache (installed if missing), cached in build/ccache: build trees
@@ -62,12 +63,16 @@ deps() { install_packages "${PACKAGES_BUILD[@]}" "${PACKAGES_TEST[@]}" "${PACKAG
 # With DNG_CCACHE=ON: the compiler launcher for every build tree configured from here on. Paths under the
 # source tree are hashed relative to the build directory, so build/release and build/demo (the same
 # depth) share the objects they compile alike.
+ccache_dir() { echo "${CCACHE_DIR:-$ROOT/build/ccache}"; }
 use_ccache() {
   [ "$CCACHE" = ON ] || return 0
   install_packages ccache
-  export CCACHE_DIR="${CCACHE_DIR:-$ROOT/build/ccache}" CCACHE_BASEDIR="$ROOT"
+  export CCACHE_DIR="$(ccache_dir)" CCACHE_BASEDIR="$ROOT"
   export CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache
 }
+
+# The cache's hits and misses so far (nothing when ccache is not installed or the cache is empty).
+cmd_ccache_stats() { CCACHE_DIR="$(ccache_dir)" ccache --show-stats 2>/dev/null | grep -iE "hits|misses" || true; }
 
 # configure_and_build <build-dir> [cmake args...]
 configure_and_build() {
@@ -455,5 +460,6 @@ case "${1:-}" in
   fuzz-scenes) cmd_fuzz_scenes "${2:-300}" ;;
   fuzz-assimp) cmd_fuzz_assimp "${2:-300}" ;;
   demo) cmd_demo ;;
-  *) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
+  ccache-stats) cmd_ccache_stats ;;
+  *) sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
 esac

@@ -65,15 +65,19 @@ struct Primitive {
   std::uint32_t triangle;
 };
 
-Primitive makePrimitive(const TriangleSoup& soup, std::uint32_t t) {
+// Triangle t's primitive, or false when it has no area or a corner that is not finite (the index leaves
+// those out: they bound nothing).
+bool makePrimitive(const TriangleSoup& soup, std::uint32_t t, Primitive* out) {
   const auto& tri = soup.triangles[t];
   const Vec3f a = soup.vertices[tri[0]], b = soup.vertices[tri[1]], c = soup.vertices[tri[2]];
   const Vec3f twice_area = cross(b - a, c - a);
+  if (!(length(twice_area) > 0.0f && std::isfinite(dot(a + b + c, a + b + c)))) return false;
   const float extent = std::max(length(b - a), length(c - a));
   // Each component of the cross product is off by a few float steps of |ab| |ac| <= extent^2, so its
   // direction by that over its length; four times that covers the normalization too.
   const float error = 16.0f * std::numeric_limits<float>::epsilon() * extent * extent / length(twice_area);
-  return {a, b, c, normalizeOrZero(twice_area), std::isfinite(error) ? error : 2.0f, extent, t};
+  *out = {a, b, c, normalizeOrZero(twice_area), std::isfinite(error) ? error : 2.0f, extent, t};
+  return true;
 }
 
 // A triangle whose normal floats may get this wrong (radians) is thin enough for doubles: under about 2%
@@ -179,12 +183,9 @@ BakeStatus ClosestPointIndex::build(const TriangleSoup& soup) {
   if (impl_->device == nullptr) return BakeStatus::failure(BakeError::kInternal, "Embree could not create a device");
   impl_->scene = rtcNewScene(impl_->device);
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  for (std::uint32_t t = 0; t < soup.triangles.size(); ++t) {
-    const auto& tri = soup.triangles[t];
-    const Vec3f a = soup.vertices[tri[0]], b = soup.vertices[tri[1]], c = soup.vertices[tri[2]];
-    if (length(cross(b - a, c - a)) > 0.0f && std::isfinite(dot(a + b + c, a + b + c)))
-      impl_->primitives.push_back(makePrimitive(soup, t));
-  }
+  Primitive primitive{};
+  for (std::uint32_t t = 0; t < soup.triangles.size(); ++t)
+    if (makePrimitive(soup, t, &primitive)) impl_->primitives.push_back(primitive);
   // Embree reads vertices with 16-byte loads: its own buffers carry the padding it needs.
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                3 * sizeof(float), soup.vertices.size()));

@@ -36,8 +36,7 @@ BakeStatus checkStlCoordinates(const std::string& path, long long* out_declared_
   std::ifstream in(path, std::ios::binary);
   const auto size = std::uint64_t(std::filesystem::file_size(path));
   *out_declared_facets = declaredStlFacets(in, size);
-  if (*out_declared_facets >= 0) { // binary: 50-byte facets of a normal, three vertices, two bytes
-    in.seekg(84);
+  if (*out_declared_facets >= 0) { // binary: 50-byte facets of a normal, three vertices, two bytes, after the header
     char facet[50];
     for (std::uint64_t n = 0; in.read(facet, sizeof facet); ++n) {
       float xyz[9];
