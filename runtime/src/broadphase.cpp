@@ -202,7 +202,7 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   for (std::size_t c = 0; c < cells; ++c)
     cell_start[c + 1] += cell_start[c];
   cell_bodies.resize(cell_start[cells]);
-  cell_boxes.resize(cell_start[cells]);
+  cell_boxes.resize(cell_start[cells] + 1); // one past the last entry: the kernels read entries in pairs
   std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
   std::vector<std::uint32_t> along[3]; // a body's cell_box fields per cell along each axis
   for (std::uint32_t b : boxed) {

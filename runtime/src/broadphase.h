@@ -138,7 +138,9 @@ struct BodyIndex::Impl {
   Vec3f scene_lo, scene_hi;
   std::vector<std::uint32_t> cell_start;
   std::vector<std::uint32_t> cell_bodies;
-  std::vector<std::uint32_t> cell_boxes; // per entry of cell_bodies: the grown box in its cell (cell_box)
+  // Per entry of cell_bodies: the grown box in its cell (cell_box); then one unused word, so that the
+  // SIMD kernels may load any entry together with the next one (near_lanes.h listOneCellEach).
+  std::vector<std::uint32_t> cell_boxes;
   std::vector<std::uint32_t> everywhere; // bodies whose grown box is not finite (a NaN or huge velocity)
   // Per body, its kind: the body the build found with the same field and material (sameMaterial), or
   // itself. The build looks among the last few kinds it met only, so bodies of one kind may get
