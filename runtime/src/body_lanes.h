@@ -115,9 +115,9 @@ DNG_LANE_INLINE bool allStill(const StepBody* prepared, I body, M m) {
   constexpr std::size_t word = offsetof(StepBody, still) / sizeof(std::uint32_t) * sizeof(std::uint32_t);
   constexpr int shift = int(offsetof(StepBody, still) - word) * 8;
   const auto* base = reinterpret_cast<const std::uint32_t*>(reinterpret_cast<const char*>(prepared) + word);
-  const I flag = shiftRight(gather(base, body * splatI(std::int32_t(sizeof(StepBody) / sizeof(std::uint32_t))), m),
-                            shift) &
-                 splatI(0xFF);
+  const I flag =
+      shiftRight(gather(base, body * splatI(std::int32_t(sizeof(StepBody) / sizeof(std::uint32_t))), m), shift) &
+      splatI(0xFF);
   return !any(m & (flag == splatI(0)));
 }
 

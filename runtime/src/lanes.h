@@ -76,8 +76,8 @@ struct Lanes3 {
 /// Each lane's own number: lane n holds n (for indexing arrays laid out lane by lane).
 DNG_LANE_INLINE I laneNumbers() {
   alignas(kLaneAlign) static constexpr std::int32_t kNumbers[32] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10,
-                                                                     11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
-                                                                     22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
+                                                                    11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
+                                                                    22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
   static_assert(kWidth <= 32, "a number for every lane");
   I out;
   std::memcpy(&out, kNumbers, sizeof out);

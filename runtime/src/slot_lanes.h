@@ -68,8 +68,8 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, I*
   const int k = out->count++;
   const M in = laneMask(*left);
   // lists.body[next][lane] for each lane of `left`.
-  const I body = gather(reinterpret_cast<const std::uint32_t*>(&lists.body[0][0]),
-                        *next * splatI(kWidth) + laneNumbers(), in);
+  const I body =
+      gather(reinterpret_cast<const std::uint32_t*>(&lists.body[0][0]), *next * splatI(kWidth) + laneNumbers(), in);
   const std::int32_t first = lowestValue(select(in, body, splatI(std::numeric_limits<std::int32_t>::max())));
   const StepBody& shared = batch.prepared[first];
   const Material& material = batch.bodies[first].material();
@@ -87,8 +87,7 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, I*
   if (!any(others)) return;
   // Lanes without a body here read the first's numbers (and stay off).
   const I index = select(on, body, splatI(first));
-  gatherBodies(batch.prepared, index, shared, shared.still && allStill(batch.prepared, index, others),
-               &out->each[k]);
+  gatherBodies(batch.prepared, index, shared, shared.still && allStill(batch.prepared, index, others), &out->each[k]);
 }
 
 /// The chunk's slots for the live lanes' lists. Each lane's bodies keep their order (a lane's k-th body

@@ -23,13 +23,7 @@ namespace DNG_LANES_NS {
 DNG_LANE_INLINE bool gatherOffsets(std::size_t stride, I* out) {
   const std::size_t floats = stride / sizeof(float);
   if (floats > std::size_t(INT32_MAX) / std::size_t(kWidth)) return false;
-  alignas(kLaneAlign) static constexpr std::int32_t kLanes[32] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10,
-                                                                  11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
-                                                                  22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
-  static_assert(kWidth <= 32, "a lane number for every lane");
-  I lanes;
-  std::memcpy(&lanes, kLanes, sizeof lanes);
-  *out = lanes * splatI(std::int32_t(floats));
+  *out = laneNumbers() * splatI(std::int32_t(floats));
   return true;
 }
 #endif
