@@ -59,11 +59,12 @@ DNG_LANE_INLINE M sameKind(const StepBatch& batch, I body, std::int32_t first, c
 
 // The next slot: the lowest of the next bodies of the lanes `left`, and the next body of every other
 // lane of `left` whose next body is of the same kind, each lane's taken from its list (its position
-// `next` advanced, and the lane out of *left once its list is done). Taking the lowest first lets a
-// body that every lane lists, such as a ground, wait until each lane reaches it, so it takes one slot.
+// `next` advanced, and the lane out of *left once its list, `count` long, is done). Taking the lowest
+// first lets a body that every lane lists, such as a ground, wait until each lane reaches it, so it
+// takes one slot.
 // One body for every lane is kept as it is; different bodies are gathered. In registers: lane by lane,
 // the choice took about 7% of a city's step (bench/many_bodies_bench, perf).
-DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, I* next, LaneBits* left,
+DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, I count, I* next, LaneBits* left,
                               ChunkSlots* out) {
   const int k = out->count++;
   const M in = laneMask(*left);
@@ -77,8 +78,6 @@ DNG_LANE_INLINE void nextSlot(const StepBatch& batch, const LaneLists& lists, I*
   const M others = sameKind(batch, body, first, shared, material, andNot(in, is_first));
   const M on = is_first | others;
   *next = *next + select(on, splatI(1), splatI(0));
-  I count;
-  std::memcpy(&count, lists.count, sizeof count);
   *left &= ~bits(on & (*next == count));
   out->on[k] = bits(on);
   out->material[k] = &material;
@@ -106,7 +105,7 @@ DNG_LANE_INLINE bool makeSlots(const StepBatch& batch, const LaneLists& lists, M
   if (left != 0 && !batch.gatherable) return false;
   while (left != 0) {
     if (out->count == ChunkSlots::kMax) return false;
-    nextSlot(batch, lists, &next, &left, out);
+    nextSlot(batch, lists, count, &next, &left, out);
   }
   return true;
 }
