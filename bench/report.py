@@ -137,6 +137,65 @@ def spread_from_median(values):
     return min(values), max(values), max(abs(x / median - 1.0) for x in values)
 
 
+# Table 1's "Where the time goes": measured on scratch builds (profiles, counters, A/B runs), not
+# by this run, so it is prose that changes only when someone measures again.
+TIME_BREAKDOWN = [
+    "**The two samples.** About 85% of the step's time is the lanes' own work: each particle's response "
+    "sample (brick-top entry, then pool word and shading normal) and the sample at the end of its move that "
+    "proves the move clear with two balls. The first ball alone proves almost no move here (it must leave 3 "
+    "voxels of room, and these particles stay within 2), so nearly every particle takes both samples.",
+    "**Bound by instructions and chains of gathers, not by cache misses.** On the AMD EPYC the profiler puts "
+    "most of its samples just after those gathers (an AVX-512 gather takes about 9 ns from issue to result "
+    "there, and three of the four depend on another). Yet plain loads in their place, four registers per "
+    "operation instead of two, a smaller field and particles in spatial order all measured no faster, and "
+    "prefetching the pool words and shading normals of the chunk one, two or four chunks ahead measured "
+    "slower (18.0 ns per particle-step without, 19.5 to 19.9 with: the fastest timings of 3 runs of each, in "
+    "turn). The evidence points to the instruction count (no hardware counters here to prove it): about 220 "
+    "per particle-step with the AVX2 kernels (callgrind on bench/swarm_hash's Table 1-like load; valgrind "
+    "cannot run AVX-512), spread over many small parts, the largest the brick lookups at about a fifth.",
+    "**On an Intel Xeon** (perf with line information, the same swarm) about half of the step's time is in "
+    "the samples' nearest-voxel lookups (brick-top entry, pool word, shading normal and the octahedral "
+    "decodes), over a quarter of that just after the pool-word gathers. Taking each chunk's response samples "
+    "one chunk ahead, so that two chunks' gathers overlap, gained about 2% with the AVX-512 kernels and 7% "
+    "with the AVX2 ones (docs/RUNTIME.md, \"SIMD\"). Prefetching the pool words and shading entries of the "
+    "chunk two or four ahead measured slower (2% and 7%), one register per operation slower (23.5 ns against "
+    "19.3), four no faster (19.9 against 19.4), a normalization without the square root and division no "
+    "faster, and the step costs the same from 4,000 to 400,000 particles (bench/swarm_hash, medians of 3 to "
+    "6 runs in turn).",
+    "**The particles the balls leave.** About 6% need the walk to go cell by cell (they are set aside and "
+    "walked a register at a time) and 0.26% are handed to the scalar walk. About half of those stop at a "
+    "plane during the move (a bounce and a slide); most of the rest are spawn points the planes cannot prove "
+    "outside, which never move and are handed over every step (`Body::provesOutside` names such points; this "
+    "emitter keeps them, as one that does not ask would). In a profile (perf, cpu-clock) the scalar walk "
+    "takes about 6% of the step's time and the lanes' second-bound lookups, one lane at a time, about 4%. "
+    "Pairs of second planes (beside concave creases) are stepped in lanes; handed over, they had been about "
+    "60% of the scalar walks, when 0.7% of particle-steps were handed over.",
+    "**Why detailed meshes cost more.** On the sweep's detailed meshes (below) 2-4% of particle-steps are "
+    "handed over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and the scalar walks "
+    "take up to about 40% of the time. On dragon_res4 a third of their cycles go to spawn points never "
+    "proven outside, and the 26-sample neighbour bound is about a fifth of the step; a swarm of nothing but "
+    "blocked points cost about 320 ns per particle-step there, and 190 since the lanes take the bound at a "
+    "walk's start and hand a blocked stop to the scalar code without its walk. That is why those meshes cost "
+    "more than fandisk, and why the sweep's column of spawns the field proves costs less.",
+    "**From spawns the field proves, the handovers still make the difference** (callgrind, AVX2 kernels, "
+    "bench/swarm_hash at 20,000 particles and 60 steps of Table 1's load): on dragon_res4 0.86% of "
+    "particle-steps are handed over, against 0.16% on fandisk, and each costs about 6,500 instructions "
+    "(about 1.3 walks, each sampling about 5 cells and taking about 1.3 neighbour bounds of 26 samples), "
+    "against about 215 for a particle-step the lanes settle. The step takes 261 instructions per "
+    "particle-step there against 217 on fandisk, a fifth more, nearly all of it the handovers.",
+    "**Against the peers.** What Embree pays for a short segment near a 12,946-triangle mesh is a shallow "
+    "BVH descent; what the field pays is fixed per sample.",
+]
+
+
+def print_time_breakdown():
+    print("\n### Where the time goes\n")
+    print("Not part of this run: counters, profiles and A/B runs of scratch builds on this table's swarm "
+          "(fandisk unless said).\n")
+    for point in TIME_BREAKDOWN:
+        print("- " + point)
+
+
 def table1_section(path, table_mesh="fandisk"):
     rows = table1_rows(path)
     counts = sorted({n for (m, n, _) in rows if m == table_mesh})
@@ -258,52 +317,7 @@ def table1_section(path, table_mesh="fandisk"):
               "and NanoVDB were not run from these spawns, so no ratio to them is given). A point just outside a "
               "detail the field cannot resolve is blocked where it spawns, and its walk runs every step it lives "
               "(docs/RUNTIME.md, \"Limits\"); on fandisk there are few." % (proven, proven / r("plain")))
-    print("\n*Where the time goes* (not part of this run: counters and a profile of a scratch build, fandisk, "
-          "this table's swarm). About 85% of the step's time is the lanes' own work: each particle's response sample "
-          "(brick-top entry, then pool word and shading normal) and the sample at the end of its move that proves "
-          "the move clear with two balls. The profiler puts most of its samples just after those gathers (an "
-          "AVX-512 gather takes about 9 ns from issue to result on the AMD EPYC this was measured on, and three of "
-          "the four depend on "
-          "another), yet plain loads in their place, or four registers per operation instead of two, measured "
-          "no faster, nor did a smaller field or particles in spatial order, and prefetching the pool words and "
-          "shading normals of the chunk one, two or four chunks ahead measured slower there (18.0 ns per particle-step "
-          "without, 19.5 to 19.9 with: the fastest timings of 3 runs of each, in turn): the evidence points to its "
-          "instruction count (no hardware counters here to prove it), about 220 per particle-step with the AVX2 "
-          "kernels (callgrind on bench/swarm_hash's Table 1-like load; valgrind cannot run AVX-512), spread over "
-          "many small parts, the largest the brick lookups at about a fifth. A later profile on an Intel Xeon "
-          "(perf with line information, the same swarm) puts about half of the step's time in the samples' "
-          "nearest-voxel lookups (brick-top entry, pool word, shading normal and the octahedral decodes), over a "
-          "quarter of that just after the pool-word gathers; taking each chunk's response samples one chunk ahead, "
-          "so that two chunks' gathers overlap, gained about 2% with the AVX-512 kernels and 7% with the AVX2 ones "
-          "(docs/RUNTIME.md, \"SIMD\"). On that Xeon too, prefetching the pool words and shading entries of the "
-          "chunk two or four ahead measured slower (2% and 7%), one register per operation slower (23.5 ns against "
-          "19.3) and four no faster (19.9 against 19.4), a normalization without the square root and division no "
-          "faster, and the step costs the same from 4,000 to 400,000 particles (bench/swarm_hash, medians of 3 to "
-          "6 runs in turn): the step is bound by its instructions and its chains of gathers, not by cache misses. "
-          "The first ball alone proves almost no move here (it must leave 3 voxels of room, and these particles "
-          "stay within 2), so nearly every particle takes both samples. Of the particles, "
-          "about 6% need the walk to go cell by cell (they are set aside and walked a register at a time) and "
-          "0.26% are handed to the scalar walk: about half of them stop at a plane during the move (a bounce and a "
-          "slide), most of the rest are spawn points the planes cannot prove outside, which never move and are "
-          "handed over every step (Body::provesOutside names such points; this emitter keeps them, as one that "
-          "does not ask would). In a profile (perf, cpu-clock) the scalar walk takes about 6% of the step's "
-          "time and the lanes' second-bound lookups, one lane at a time, about 4%. Pairs of second planes "
-          "(beside concave creases) are stepped in lanes; handed over, they had been about 60% of the scalar "
-          "walks, when 0.7% of particle-steps were handed over. On the sweep's detailed meshes 2-4% of "
-          "particle-steps are handed over (the cow 2.2%, dragon_res4 3.7%), most of them such blocked particles, and "
-          "the scalar walks "
-          "take up to about 40% of the time (dragon_res4: a third of their cycles on spawn points never proven "
-          "outside, and the 26-sample neighbour bound about a fifth of the step; a swarm of nothing but blocked "
-          "points cost about 320 ns per particle-step there, and 190 since the lanes take the bound at a "
-          "walk's start and hand a blocked stop to the scalar code without its walk): that is why those "
-          "meshes cost more than fandisk, and why the sweep's column of spawns the field proves costs less. "
-          "From spawns the field proves, the handovers still make the difference (callgrind, AVX2 kernels, "
-          "bench/swarm_hash at 20,000 particles and 60 steps of Table 1's load): on dragon_res4 0.86% of "
-          "particle-steps are handed over, against 0.16% on fandisk, and each costs about 6,500 instructions "
-          "(about 1.3 walks, each sampling about 5 cells and taking about 1.3 neighbour bounds of 26 samples), "
-          "against about 215 for a particle-step the lanes settle: the step takes 261 instructions per "
-          "particle-step there against 217 on fandisk, a fifth more, nearly all of it the handovers. What Embree pays for a short segment near a 12,946-triangle mesh is a shallow BVH descent; "
-          "what the field pays is fixed per sample.")
+    print_time_breakdown()
 
     # The sweep: every mesh at the sweep's swarm size (the table's mesh included when it ran at that size).
     sweep_n = min(n for (m, n, _) in rows if m != table_mesh) if any(m != table_mesh for (m, _, _) in rows) else n
@@ -412,7 +426,7 @@ def bodies_section(path):
           "ground alone a drop among the buildings also samples a building about a quarter of the time. Without the "
           "broadphase the city costs %.0fx the ground alone. Every row runs the SIMD kernels; through the index "
           "each lane of a chunk lists its own bodies, testing each body of its cell by the coarse copy of its grown "
-          "box that the cell keeps (docs/RUNTIME.md, \"SIMD\"). A chunk where at most half the lanes meet a body "
+          "box that the cell keeps (docs/RUNTIME.md, \"Many bodies in lanes\"). A chunk where at most half the lanes meet a body "
           "moves the others at once and queues those with their lists; once a chunk's worth is queued, gathered "
           "from several chunks, they are stepped together. A chunk steps its lanes' bodies slot by slot: in "
           "random order the lanes' different buildings (one field, one material, one kind noted by the index) run "
