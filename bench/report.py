@@ -176,7 +176,10 @@ TIME_BREAKDOWN = [
     "proven outside, and the 26-sample neighbour bound is about a fifth of the step; a swarm of nothing but "
     "blocked points cost about 320 ns per particle-step there, and 190 since the lanes take the bound at a "
     "walk's start and hand a blocked stop to the scalar code without its walk. That is why those meshes cost "
-    "more than fandisk, and why the sweep's column of spawns the field proves costs less.",
+    "more than fandisk, and why the sweep's column of spawns the field proves costs less. On bench/swarm_hash's "
+    "Table 1-like load about two thirds of dragon_res4's handed-over walks reach a cell whose planes prove "
+    "nothing, at the start or part-way; taking those neighbour bounds in lanes halved the handovers but cost "
+    "more than it saved (docs/RUNTIME.md, \"Tried on the single-body step and not kept\").",
     "**From spawns the field proves, the handovers still make the difference** (callgrind, AVX2 kernels, "
     "bench/swarm_hash at 20,000 particles and 60 steps of Table 1's load): on dragon_res4 0.86% of "
     "particle-steps are handed over, against 0.16% on fandisk, and each costs about 6,500 instructions "
