@@ -14,7 +14,8 @@
 #   bash setup.sh package        install (full and runtime-only) into temporary prefixes, build C and C++
 #                                consumers against them, check libdngrid's exported symbols
 #   bash setup.sh format-check   check clang-format on every source file
-#   bash setup.sh bench          build and run the benchmarks, write docs/PERFORMANCE.md
+#   bash setup.sh bench [NAME]   build and run the benchmarks, write docs/PERFORMANCE.md (with NAME: another
+#                                CPU's report, docs/PERFORMANCE_NAME.md, beside the run of record)
 #   bash setup.sh leaks          run the full leak table (particles judged on the triangles), write docs/LEAKS.md
 #   bash setup.sh fuzz [SECONDS] fuzz the loader (default 60 s), dngdump and the step (half that each), replay regressions
 #   bash setup.sh fuzz-meshes [SECONDS]  fuzz mesh loading, open-ended (default 300 s)
@@ -367,7 +368,7 @@ cmd_bench() {
   command -v npm >/dev/null || install_packages npm # the Table 1 meshes (bench/fetch_table1_meshes.sh)
   fetch_data
   configure_and_build "$ROOT/build/bench" -DCMAKE_BUILD_TYPE=Release -DDNG_BUILD_BENCH=ON -DDNG_BUILD_TESTS=OFF
-  bash "$ROOT/bench/run.sh" "$ROOT/build/bench"
+  bash "$ROOT/bench/run.sh" "$ROOT/build/bench" "${1:-}"
 }
 
 # Every mesh and mode against every leak case, 20,000 particles x 120 steps each, judged on the
@@ -453,7 +454,7 @@ case "${1:-}" in
   aarch64) cmd_aarch64 ;;
   package) cmd_package ;;
   format-check) cmd_format_check ;;
-  bench) cmd_bench ;;
+  bench) cmd_bench "${2:-}" ;;
   leaks) cmd_leaks ;;
   fuzz) cmd_fuzz "${2:-60}" ;;
   fuzz-meshes) cmd_fuzz_meshes "${2:-300}" ;;
@@ -461,5 +462,5 @@ case "${1:-}" in
   fuzz-assimp) cmd_fuzz_assimp "${2:-300}" ;;
   demo) cmd_demo ;;
   ccache-stats) cmd_ccache_stats ;;
-  *) sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
+  *) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 1 ;;
 esac

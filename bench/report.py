@@ -1,7 +1,17 @@
-"""Turns Google Benchmark JSON (with repetitions) into docs/PERFORMANCE.md."""
+"""Turns Google Benchmark JSON (with repetitions) into docs/PERFORMANCE.md.
+
+DNG_REPORT_NAME, when set (bench/run.sh's second argument), makes the report one of another CPU's,
+docs/PERFORMANCE_<name>.md, whose plot is docs/images/table1_sweep_<name>.png. Without it the report is
+the run of record and links to the other CPUs' reports found beside it."""
+import glob
 import json
+import os
 import statistics
 import sys
+
+REPORT_NAME = os.environ.get("DNG_REPORT_NAME", "")
+PLOT = "images/table1_sweep%s.png" % ("_" + REPORT_NAME if REPORT_NAME else "")
+DOCS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs")
 
 
 def medians(path, counter, scale=1e9):
@@ -193,6 +203,12 @@ TIME_BREAKDOWN = [
 
 def print_time_breakdown():
     print("\n### Where the time goes\n")
+    if REPORT_NAME:
+        # The list below was measured on the run of record's CPUs; another CPU's report points to it.
+        print("The profiles and A/B runs behind the run of record's list ([PERFORMANCE.md](PERFORMANCE.md), "
+              "\"Where the time goes\") were taken on CPUs with AVX-512. What was measured on a CPU without it "
+              "is in docs/RUNTIME.md, \"SIMD on CPUs without AVX-512\".")
+        return
     print("Not part of this run: counters, profiles and A/B runs of scratch builds on this table's swarm "
           "(fandisk unless said).\n")
     for point in TIME_BREAKDOWN:
@@ -287,7 +303,7 @@ def table1_section(path, table_mesh="fandisk"):
         f = lambda case: fastest[(table_mesh, n, case)]["ns"]
         f_best = embree_best(fastest, table_mesh, n)[1]["ns"]
         print("\nThe medians are the figures of record. From each row's fastest repetition instead, the run's "
-              "least disturbed one (other tenants of this shared machine slow the AVX-512 kernels more than "
+              "least disturbed one (other tenants of this shared machine slow dngrid's SIMD kernels more than "
               "Embree's traversal): bricked impact+drag+flow %.1f ns against Embree's best %.1f, %.2fx faster, "
               "and %.1fx the no-collision loop." % (f("dngrid_bricked_flow"), f_best, f_best / f("dngrid_bricked_flow"),
                                                      f("dngrid_bricked_flow") / f("plain")))
@@ -355,7 +371,7 @@ def table1_section(path, table_mesh="fandisk"):
             format(g("plain")["judged"], ",")))
     spread = lambda case: spread_from_median([rows[(m, sweep_n, case)]["ns"] for m in meshes])
     low, high, worst = spread("dngrid_bricked_flow")
-    print("\n![ns per particle-step against triangle count](images/table1_sweep.png)\n")
+    print("\n![ns per particle-step against triangle count](%s)\n" % PLOT)
     print("**Goal: the bricked impact+drag+flow step's cost flat within +-15%% from %s to %s triangles. Measured: "
           "%.1f to %.1f ns, at most %.0f%% from their median, %s.**" % (
               format(rows[(meshes[0], sweep_n, "plain")]["triangles"], ","),
@@ -481,14 +497,21 @@ def main(path, step_path=None, bake_path=None, table1_path=None, bodies_path=Non
     context, m = medians(path, "per_query")
     raw = {0: m["BM_RawArray/0"][0], 1: m["BM_RawArray/1"][0]}
     nano = {k: m.get("BM_NanoVdb/%d" % k, (None,))[0] for k in (0, 1)}
-    print("# Performance\n")
-    print("Written by `bash setup.sh bench` (bench/run.sh); do not edit by hand. Medians of %d repetitions (Table 1, "
-          "the many bodies and the threads: each section says how many), measured on %s (%s, %d CPUs, %s). "
+    isa = context.get("instruction_set")
+    print("# Performance%s\n" % (" on another CPU (%s)" % REPORT_NAME if REPORT_NAME else ""))
+    print("Written by `bash setup.sh bench` (bench/run.sh%s); do not edit by hand. Medians of %d repetitions (Table 1, "
+          "the many bodies and the threads: each section says how many), measured on %s (%s, %d CPUs, %s%s). "
           "Absolute times on shared machines drift by tens of percent between runs; the ratios to baselines "
           "measured in the same run are the figures to compare, on the same CPU model: between CPU makers they "
           "differ too.\n"
-          % (repetitions(path), context.get("host_name", "?"), context.get("cpu_model", "CPU model not recorded"),
-             context.get("num_cpus", 0), context.get("date", "?")))
+          % (" with the name `%s`" % REPORT_NAME if REPORT_NAME else "", repetitions(path),
+             context.get("host_name", "?"), context.get("cpu_model", "CPU model not recorded"),
+             context.get("num_cpus", 0), context.get("date", "?"),
+             ", the runtime's %s kernels" % isa if isa else ""))
+    others = sorted(os.path.basename(f) for f in glob.glob(os.path.join(DOCS, "PERFORMANCE_*.md")))
+    if not REPORT_NAME and others:
+        print("The same benchmarks on other CPUs, each report from one run there: %s.\n"
+              % ", ".join("[%s](%s)" % (f, f) for f in others))
     print("## Field queries (bench/field_query_bench.cpp)\n")
     print("A 128^3 sphere field (radius 48 voxels, band 3 voxels); the same ~116k points within 2 voxels of the "
           "surface, in scan order (coherent) and shuffled (random), sampled with `View::sampleBatch`.\n")

@@ -2,9 +2,18 @@
 # Runs the benchmarks in BUILD_DIR and writes docs/PERFORMANCE.md: medians of repeated runs, and
 # every figure also as a ratio to a baseline measured in the same run (absolute times on shared
 # machines drift by tens of percent; ratios within one run are what we compare).
-#   bash bench/run.sh BUILD_DIR
+#   bash bench/run.sh BUILD_DIR          the run of record: docs/PERFORMANCE.md
+#   bash bench/run.sh BUILD_DIR NAME     another CPU's report: docs/PERFORMANCE_NAME.md (NAME: letters,
+#                                        digits, '-' and '_'; say what sets the CPU apart, e.g. avx2)
 set -euo pipefail
-build="${1:?usage: bench/run.sh BUILD_DIR}"
+build="${1:?usage: bench/run.sh BUILD_DIR [NAME]}"
+name="${2:-}"
+if [ -n "$name" ] && ! [[ "$name" =~ ^[A-Za-z0-9_-]+$ ]]; then
+  echo "bench/run.sh: the report's name may hold letters, digits, '-' and '_' only, got '$name'" >&2
+  exit 2
+fi
+export DNG_REPORT_NAME="$name"
+suffix="${name:+_$name}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
 export DNG_BENCH_MESH="${DNG_BENCH_MESH:-$root/data/data/meshes/bunny00.off}"
 # The CPU's model goes into every report's context (ratios between methods differ between CPU makers:
@@ -43,10 +52,11 @@ gnuplot -e "data='$build/table1_bench_sweep.dat'; out='$plot'" "$root/bench/tabl
 echo "bench/run.sh: running accuracy_bench" >&2
 "$build/bench/accuracy_bench" "$(dirname "$DNG_BENCH_MESH")" >>"$report"
 # Both copied before either is renamed over the old one, so a failed copy leaves the old pair.
-new_report="$root/docs/PERFORMANCE.md.new" new_plot="$root/docs/images/table1_sweep.png.new"
+final_report="$root/docs/PERFORMANCE$suffix.md" final_plot="$root/docs/images/table1_sweep$suffix.png"
+new_report="$final_report.new" new_plot="$final_plot.new"
 trap 'rm -f "$new_report" "$new_plot"' EXIT
 cp "$report" "$new_report"
 cp "$plot" "$new_plot"
-mv "$new_plot" "$root/docs/images/table1_sweep.png"
-mv "$new_report" "$root/docs/PERFORMANCE.md"
-echo "bench/run.sh: wrote docs/PERFORMANCE.md" >&2
+mv "$new_plot" "$final_plot"
+mv "$new_report" "$final_report"
+echo "bench/run.sh: wrote docs/PERFORMANCE$suffix.md" >&2

@@ -208,6 +208,7 @@ int main(int argc, char** argv) {
     registerCases(options.table, tableCases(), n, options.judge);
   for (const std::string& mesh : options.sweep)
     registerCases(mesh, sweepCases(), options.sweep_particles, options.judge);
+  dng::bench::addInstructionSetContext();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return dng::bench::finishReport("table1_bench");

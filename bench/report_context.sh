@@ -1,0 +1,26 @@
+#!/bin/sh
+# A benchmark report names the SIMD kernels the runtime picked (bench_main.h), and bench/run.sh refuses
+# a report name that is not a plain word before it runs anything.
+#   sh bench/report_context.sh PROGRAM FILTER
+set -u
+program="$1" filter="$2"
+here="$(cd "$(dirname "$0")" && pwd)"
+report="$("$program" --benchmark_filter="$filter" --benchmark_min_time=0.001 --benchmark_format=json)" || {
+  echo "$program failed" >&2
+  exit 1
+}
+case "$report" in
+  *'"instruction_set": "scalar"'* | *'"instruction_set": "sse4.1"'* | *'"instruction_set": "avx2"'* | \
+    *'"instruction_set": "avx512"'* | *'"instruction_set": "neon"'*) ;;
+  *) echo "the report's context names no instruction set" >&2; exit 1 ;;
+esac
+message="$(bash "$here/run.sh" /nonexistent-build "../escape" 2>&1)"
+code=$?
+if [ "$code" -ne 2 ]; then
+  echo "bench/run.sh with the name '../escape': expected exit code 2, got $code" >&2
+  exit 1
+fi
+case "$message" in
+  *"letters, digits, '-' and '_' only"*) exit 0 ;;
+  *) echo "bench/run.sh with a bad name: expected a message, got: $message" >&2; exit 1 ;;
+esac
