@@ -5,6 +5,7 @@
 set -u
 program="$1" filter="$2"
 here="$(cd "$(dirname "$0")" && pwd)"
+. "$here/check_failure.sh"
 report="$("$program" --benchmark_filter="$filter" --benchmark_min_time=0.001 --benchmark_format=json)" || {
   echo "$program failed" >&2
   exit 1
@@ -16,11 +17,4 @@ case "$report" in
 esac
 message="$(bash "$here/run.sh" /nonexistent-build "../escape" 2>&1)"
 code=$?
-if [ "$code" -ne 2 ]; then
-  echo "bench/run.sh with the name '../escape': expected exit code 2, got $code" >&2
-  exit 1
-fi
-case "$message" in
-  *"letters, digits, '-' and '_' only"*) exit 0 ;;
-  *) echo "bench/run.sh with a bad name: expected a message, got: $message" >&2; exit 1 ;;
-esac
+check_failure "bench/run.sh with the name '../escape'" 2 "letters, digits, '-' and '_' only" "$code" "$message"

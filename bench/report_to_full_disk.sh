@@ -4,14 +4,8 @@
 #   sh bench/report_to_full_disk.sh PROGRAM FILTER
 set -u
 program="$1" filter="$2"
+. "$(dirname "$0")/check_failure.sh"
 [ -w /dev/full ] || { echo "no /dev/full here: skipped"; exit 77; }
 message="$("$program" --benchmark_filter="$filter" --benchmark_min_time=0.001 --benchmark_format=json 2>&1 >/dev/full)"
 code=$?
-if [ "$code" -ne 2 ]; then
-  echo "expected exit code 2 with standard output on /dev/full, got $code" >&2
-  exit 1
-fi
-case "$message" in
-  *"cannot write the report to standard output"*) exit 0 ;;
-  *) echo "expected a message on standard error, got: $message" >&2; exit 1 ;;
-esac
+check_failure "standard output on /dev/full" 2 "cannot write the report to standard output" "$code" "$message"
