@@ -204,10 +204,10 @@ TIME_BREAKDOWN = [
 def print_time_breakdown():
     print("\n### Where the time goes\n")
     if REPORT_NAME:
-        # The list below was measured on the run of record's CPUs; another CPU's report points to it.
+        # The list below was measured on the run of record's machines, whatever CPU this report is of.
         print("The profiles and A/B runs behind the run of record's list ([PERFORMANCE.md](PERFORMANCE.md), "
-              "\"Where the time goes\") were taken on CPUs with AVX-512. What was measured on a CPU without it "
-              "is in docs/RUNTIME.md, \"SIMD on CPUs without AVX-512\".")
+              "\"Where the time goes\") were taken on its machines, not on this one. What was measured on a CPU "
+              "without AVX-512 is in docs/RUNTIME.md, \"SIMD on CPUs without AVX-512\".")
         return
     print("Not part of this run: counters, profiles and A/B runs of scratch builds on this table's swarm "
           "(fandisk unless said).\n")
