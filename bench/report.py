@@ -269,9 +269,8 @@ def table1_section(path, table_mesh="fandisk"):
           "never reads the LIFT section, which adds about a third for accurate queries; the normal-blur bakes "
           "carry their SHAD section, which the responses read, and the bricked bakes of clean solids their second "
           "bounds, PLN2, which the walk reads beside edges: dense files and the dragons below, none of them a "
-          "clean solid, have none); Embree's vertex, index and BVH allocations as its memory-monitor callback reported them; the "
-          "NanoVDB grid buffer. Particles (24 bytes "
-          "each) come on top for every method.\n")
+          "clean solid, have none); Embree's vertex, index and BVH allocations as its memory-monitor callback "
+          "reported them; the NanoVDB grid buffer. Particles (24 bytes each) come on top for every method.\n")
     header = "| method |" + "".join(" ns/particle-step (%s) | vs no collision | vs Embree best |" % format(n, ",")
                                      for n in counts) + " crossings / segments judged | memory |"
     print(header)
