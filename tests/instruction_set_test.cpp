@@ -158,7 +158,8 @@ TEST(InstructionSet, SampleBatchGivesTheScalarSamples) {
   // tail, at 32, 8 and 4 lanes.
   const std::vector<float> points = queryPoints(20031);
   const std::size_t count = points.size() / 4;
-  // The same points packed as Vec3f (12 bytes apart), which the SIMD sets load with lane permutes.
+  // The same points packed as Vec3f (12 bytes apart), which the x86 sets load with shuffles or lane
+  // permutes.
   std::vector<float> packed;
   for (std::size_t n = 0; n < count; ++n)
     packed.insert(packed.end(), {points[4 * n], points[4 * n + 1], points[4 * n + 2]});

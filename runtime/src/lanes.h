@@ -118,8 +118,8 @@ DNG_LANE_INLINE void gatherPair(const std::uint32_t* base, I index, M m, I* firs
 #endif
 
 #ifndef DNG_LANES_OWN_RECORDS
-/// The lanes of packed xyz triples: lane n is (p[3n], p[3n + 1], p[3n + 2]). Sets without lane permutes
-/// for this (lanes_avx512.h has them) transpose through an array.
+/// The lanes of packed xyz triples: lane n is (p[3n], p[3n + 1], p[3n + 2]). Sets without their own
+/// shuffles or permutes for this (lanes_x86.h and lanes_avx512.h have them) transpose through an array.
 DNG_LANE_INLINE void loadTriples(const float* p, F* x, F* y, F* z) {
   Lanes3 l;
   for (int lane = 0; lane < kWidth; ++lane)

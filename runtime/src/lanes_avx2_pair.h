@@ -116,6 +116,18 @@ DNG_LANE_INLINE void gatherWordPair(const void* base, I index, M m, I* first, I*
   one::gatherWordPair(base, index.b, m.b, &first->b, &second->b);
 }
 
+// ---- packed records (lanes_x86.h's, one register's records after the other's) ----
+DNG_LANE_INLINE void loadTriples(const float* p, F* x, F* y, F* z) {
+  one::loadTriples(p, &x->a, &y->a, &z->a);
+  one::loadTriples(p + 3 * one::kWidth, &x->b, &y->b, &z->b);
+}
+DNG_LANE_INLINE void storeQuintuples(void* out, const F field[5]) {
+  const one::F a[5] = {field[0].a, field[1].a, field[2].a, field[3].a, field[4].a};
+  const one::F b[5] = {field[0].b, field[1].b, field[2].b, field[3].b, field[4].b};
+  one::storeQuintuples(out, a);
+  one::storeQuintuples(static_cast<float*>(out) + 5 * one::kWidth, b);
+}
+
 #undef DNG_PAIR_UNARY
 #undef DNG_PAIR_BINARY
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 #if defined(DNG_LANES_AVX2)
 #include <immintrin.h>
@@ -205,6 +206,77 @@ DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, 
   out_hi->v = _mm_load_si128(reinterpret_cast<const __m128i*>(hi));
 }
 #endif
+
+// ---- packed records: a few floats per lane, one lane after the other in memory ----
+// Shuffles within each 128-bit half in place of the transpose through an array (lanes.h): that
+// transpose moved every word with a scalar load and store, a fifth of the bricked nearest
+// sampleBatch's instructions. Lane-crossing permutes (as lanes_avx512.h uses) measured slower on an
+// AMD EPYC without AVX-512 than the array; these in-half shuffles take one cycle each.
+#define DNG_LANES_OWN_RECORDS 1
+
+namespace records {
+// 4x4 transpose within each 128-bit half: out[r] holds (a, b, c, d) of lane r, and of lane r + 4 in
+// the upper half of an AVX2 register.
+DNG_LANE_INLINE void transpose4(RawF a, RawF b, RawF c, RawF d, RawF out[4]) {
+#if defined(DNG_LANES_AVX2)
+  const auto pairs = [](__m256 x) DNG_LANE_LAMBDA { return _mm256_castps_pd(x); };
+  const auto lows = [](__m256d x, __m256d y) DNG_LANE_LAMBDA { return _mm256_castpd_ps(_mm256_unpacklo_pd(x, y)); };
+  const auto highs = [](__m256d x, __m256d y) DNG_LANE_LAMBDA { return _mm256_castpd_ps(_mm256_unpackhi_pd(x, y)); };
+#else
+  const auto pairs = [](__m128 x) DNG_LANE_LAMBDA { return _mm_castps_pd(x); };
+  const auto lows = [](__m128d x, __m128d y) DNG_LANE_LAMBDA { return _mm_castpd_ps(_mm_unpacklo_pd(x, y)); };
+  const auto highs = [](__m128d x, __m128d y) DNG_LANE_LAMBDA { return _mm_castpd_ps(_mm_unpackhi_pd(x, y)); };
+#endif
+  const RawF ab_lo = DNG_PS(unpacklo)(a, b), ab_hi = DNG_PS(unpackhi)(a, b); // a0 b0 a1 b1, a2 b2 a3 b3
+  const RawF cd_lo = DNG_PS(unpacklo)(c, d), cd_hi = DNG_PS(unpackhi)(c, d);
+  out[0] = lows(pairs(ab_lo), pairs(cd_lo)), out[1] = highs(pairs(ab_lo), pairs(cd_lo));
+  out[2] = lows(pairs(ab_hi), pairs(cd_hi)), out[3] = highs(pairs(ab_hi), pairs(cd_hi));
+}
+// Stores word `lane` of `w` at *at (one vextractps).
+template <int kLane> DNG_LANE_INLINE void storeWord(float* at, __m128 w) {
+  const int word = _mm_extract_ps(w, kLane);
+  std::memcpy(at, &word, sizeof word);
+}
+// Stores the four words of `w` as the fifth words of records 0-3 from `words`.
+DNG_LANE_INLINE void storeFifths(float* words, __m128 w) {
+  storeWord<0>(words + 4, w), storeWord<1>(words + 9, w), storeWord<2>(words + 14, w), storeWord<3>(words + 19, w);
+}
+} // namespace records
+
+/// The lanes of packed xyz triples: lane n is (p[3n], p[3n + 1], p[3n + 2]).
+DNG_LANE_INLINE void loadTriples(const float* p, F* x, F* y, F* z) {
+  // Four points per 128-bit half, as three quadruples: x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3.
+#if defined(DNG_LANES_AVX2)
+  const __m256 m0 = _mm256_loadu2_m128(p + 12, p), m1 = _mm256_loadu2_m128(p + 16, p + 4),
+               m2 = _mm256_loadu2_m128(p + 20, p + 8);
+#else
+  const __m128 m0 = _mm_loadu_ps(p), m1 = _mm_loadu_ps(p + 4), m2 = _mm_loadu_ps(p + 8);
+#endif
+  const RawF xy = DNG_PS(shuffle)(m1, m2, _MM_SHUFFLE(2, 1, 3, 2)); // x2 y2 x3 y3
+  const RawF yz = DNG_PS(shuffle)(m0, m1, _MM_SHUFFLE(1, 0, 2, 1)); // y0 z0 y1 z1
+  x->v = DNG_PS(shuffle)(m0, xy, _MM_SHUFFLE(2, 0, 3, 0));
+  y->v = DNG_PS(shuffle)(yz, xy, _MM_SHUFFLE(3, 1, 2, 0));
+  z->v = DNG_PS(shuffle)(yz, m2, _MM_SHUFFLE(3, 0, 3, 1));
+}
+
+/// Packed five-word records: word 5n + f of `out` is lane n of field[f] (copied as bytes, so the
+/// records may be structs of floats and 32-bit integers). Each record is a 16-byte store of its
+/// first four words and a 4-byte store of its fifth.
+DNG_LANE_INLINE void storeQuintuples(void* out, const F field[5]) {
+  RawF record[4];
+  records::transpose4(field[0].v, field[1].v, field[2].v, field[3].v, record);
+  auto* words = static_cast<float*>(out);
+#if defined(DNG_LANES_AVX2)
+  for (int r = 0; r < 4; ++r)
+    _mm256_storeu2_m128(words + 5 * (r + 4), words + 5 * r, record[r]);
+  records::storeFifths(words, _mm256_castps256_ps128(field[4].v));
+  records::storeFifths(words + 20, _mm256_extractf128_ps(field[4].v, 1));
+#else
+  for (int r = 0; r < 4; ++r)
+    _mm_storeu_ps(words + 5 * r, record[r]);
+  records::storeFifths(words, field[4].v);
+#endif
+}
 
 #undef DNG_PS
 #undef DNG_EPI32
