@@ -208,10 +208,11 @@ DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, 
 #endif
 
 // ---- packed records: a few floats per lane, one lane after the other in memory ----
-// Shuffles within each 128-bit half in place of the transpose through an array (lanes.h): that
-// transpose moved every word with a scalar load and store, a fifth of the bricked nearest
-// sampleBatch's instructions. Lane-crossing permutes (as lanes_avx512.h uses) measured slower on an
-// AMD EPYC without AVX-512 than the array; these in-half shuffles take one cycle each.
+// Shuffles within each 128-bit half in place of the transpose through an array (lanes.h), which moved
+// every word with a scalar load and store: the bricked nearest sampleBatch ran about a quarter fewer
+// instructions (callgrind) and was faster on an AMD EPYC without AVX-512 (docs/RUNTIME.md, "SIMD on
+// CPUs without AVX-512"), where lane-crossing permutes like lanes_avx512.h's had been slower than the
+// array.
 #define DNG_LANES_OWN_RECORDS 1
 
 namespace records {
@@ -232,7 +233,7 @@ DNG_LANE_INLINE void transpose4(RawF a, RawF b, RawF c, RawF d, RawF out[4]) {
   out[0] = lows(pairs(ab_lo), pairs(cd_lo)), out[1] = highs(pairs(ab_lo), pairs(cd_lo));
   out[2] = lows(pairs(ab_hi), pairs(cd_hi)), out[3] = highs(pairs(ab_hi), pairs(cd_hi));
 }
-// Stores word `lane` of `w` at *at (one vextractps).
+// Stores word kLane of `w` at *at (one vextractps).
 template <int kLane> DNG_LANE_INLINE void storeWord(float* at, __m128 w) {
   const int word = _mm_extract_ps(w, kLane);
   std::memcpy(at, &word, sizeof word);
