@@ -22,6 +22,7 @@ constexpr int kWidth = 8;
 using RawF = __m256;
 using RawI = __m256i;
 #define DNG_PS(op) _mm256_##op##_ps
+#define DNG_PD(op) _mm256_##op##_pd
 #define DNG_EPI32(op) _mm256_##op##_epi32
 #define DNG_SI(op) _mm256_##op##_si256
 #define DNG_CAST_PS(x) _mm256_castsi256_ps(x)
@@ -31,6 +32,7 @@ constexpr int kWidth = 4;
 using RawF = __m128;
 using RawI = __m128i;
 #define DNG_PS(op) _mm_##op##_ps
+#define DNG_PD(op) _mm_##op##_pd
 #define DNG_EPI32(op) _mm_##op##_epi32
 #define DNG_SI(op) _mm_##op##_si128
 #define DNG_CAST_PS(x) _mm_castsi128_ps(x)
@@ -219,19 +221,17 @@ namespace records {
 // 4x4 transpose within each 128-bit half: out[r] holds (a, b, c, d) of lane r, and of lane r + 4 in
 // the upper half of an AVX2 register.
 DNG_LANE_INLINE void transpose4(RawF a, RawF b, RawF c, RawF d, RawF out[4]) {
-#if defined(DNG_LANES_AVX2)
-  const auto pairs = [](__m256 x) DNG_LANE_LAMBDA { return _mm256_castps_pd(x); };
-  const auto lows = [](__m256d x, __m256d y) DNG_LANE_LAMBDA { return _mm256_castpd_ps(_mm256_unpacklo_pd(x, y)); };
-  const auto highs = [](__m256d x, __m256d y) DNG_LANE_LAMBDA { return _mm256_castpd_ps(_mm256_unpackhi_pd(x, y)); };
-#else
-  const auto pairs = [](__m128 x) DNG_LANE_LAMBDA { return _mm_castps_pd(x); };
-  const auto lows = [](__m128d x, __m128d y) DNG_LANE_LAMBDA { return _mm_castpd_ps(_mm_unpacklo_pd(x, y)); };
-  const auto highs = [](__m128d x, __m128d y) DNG_LANE_LAMBDA { return _mm_castpd_ps(_mm_unpackhi_pd(x, y)); };
-#endif
+  // The 64-bit halves of x and y interleaved: (x0 x1 y0 y1) and (x2 x3 y2 y3), per 128-bit half.
+  const auto lows = [](RawF x, RawF y) DNG_LANE_LAMBDA {
+    return DNG_PS(castpd)(DNG_PD(unpacklo)(DNG_PD(castps)(x), DNG_PD(castps)(y)));
+  };
+  const auto highs = [](RawF x, RawF y) DNG_LANE_LAMBDA {
+    return DNG_PS(castpd)(DNG_PD(unpackhi)(DNG_PD(castps)(x), DNG_PD(castps)(y)));
+  };
   const RawF ab_lo = DNG_PS(unpacklo)(a, b), ab_hi = DNG_PS(unpackhi)(a, b); // a0 b0 a1 b1, a2 b2 a3 b3
   const RawF cd_lo = DNG_PS(unpacklo)(c, d), cd_hi = DNG_PS(unpackhi)(c, d);
-  out[0] = lows(pairs(ab_lo), pairs(cd_lo)), out[1] = highs(pairs(ab_lo), pairs(cd_lo));
-  out[2] = lows(pairs(ab_hi), pairs(cd_hi)), out[3] = highs(pairs(ab_hi), pairs(cd_hi));
+  out[0] = lows(ab_lo, cd_lo), out[1] = highs(ab_lo, cd_lo);
+  out[2] = lows(ab_hi, cd_hi), out[3] = highs(ab_hi, cd_hi);
 }
 // Stores word kLane of `w` at *at (one vextractps).
 template <int kLane> DNG_LANE_INLINE void storeWord(float* at, __m128 w) {
@@ -280,6 +280,7 @@ DNG_LANE_INLINE void storeQuintuples(void* out, const F field[5]) {
 }
 
 #undef DNG_PS
+#undef DNG_PD
 #undef DNG_EPI32
 #undef DNG_SI
 #undef DNG_CAST_PS
