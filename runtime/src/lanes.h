@@ -10,7 +10,9 @@
 // the reference, and tests compare the two exactly.
 //
 // The interface: F (floats), I (32-bit integers), M (booleans) with arithmetic, comparisons, select,
-// masks, gathers; V3 below is written once on top of it.
+// masks, gathers, and packed records (loadTriples: lane n is the point p[3n..3n+2]; storeQuintuples:
+// word 5n + f of the output is lane n of field f), each set with its own shuffles; V3 below is written
+// once on top of it.
 #pragma once
 
 #include <cstddef>
@@ -114,28 +116,6 @@ DNG_LANE_INLINE void gatherPair(const float* base, I index, M m, F* first, F* se
 }
 DNG_LANE_INLINE void gatherPair(const std::uint32_t* base, I index, M m, I* first, I* second) {
   *first = gather(base, index, m), *second = gather(base, index + splatI(1), m);
-}
-#endif
-
-#ifndef DNG_LANES_OWN_RECORDS
-/// The lanes of packed xyz triples: lane n is (p[3n], p[3n + 1], p[3n + 2]). Sets without their own
-/// shuffles or permutes for this (lanes_x86.h and lanes_avx512.h have them) transpose through an array.
-DNG_LANE_INLINE void loadTriples(const float* p, F* x, F* y, F* z) {
-  Lanes3 l;
-  for (int lane = 0; lane < kWidth; ++lane)
-    l.x[lane] = p[3 * lane], l.y[lane] = p[3 * lane + 1], l.z[lane] = p[3 * lane + 2];
-  *x = load(l.x), *y = load(l.y), *z = load(l.z);
-}
-/// Packed five-word records: word 5n + f of `out` is lane n of field[f] (copied as bytes, so the
-/// records may be structs of floats and 32-bit integers).
-DNG_LANE_INLINE void storeQuintuples(void* out, const F field[5]) {
-  alignas(kLaneAlign) float words[5][kWidth];
-  for (int f = 0; f < 5; ++f)
-    store(words[f], field[f]);
-  auto* bytes = static_cast<unsigned char*>(out);
-  for (int lane = 0; lane < kWidth; ++lane)
-    for (int f = 0; f < 5; ++f)
-      std::memcpy(bytes + (5 * lane + f) * sizeof(float), &words[f][lane], sizeof(float));
 }
 #endif
 

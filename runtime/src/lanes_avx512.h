@@ -177,7 +177,6 @@ DNG_LANE_INLINE void gatherWordPair(const void* base, I index, M m, I* first, I*
 // Lane permutes in place of a transpose through the stack: written lane by lane and read back as a
 // register, that transpose stalls on store forwarding (perf, bricked nearest sampleBatch on coherent
 // points: a fifth of the time was spent loading the points).
-#define DNG_LANES_OWN_RECORDS 1
 
 namespace records {
 // For 16 records of `kWords` words, register o of the stored words (words 16o to 16o + 15) draws word

@@ -210,12 +210,10 @@ DNG_LANE_INLINE void gather(const std::uint64_t* base, I index, M m, I* out_lo, 
 #endif
 
 // ---- packed records: a few floats per lane, one lane after the other in memory ----
-// Shuffles within each 128-bit half in place of the transpose through an array (lanes.h), which moved
-// every word with a scalar load and store: the bricked nearest sampleBatch ran about a quarter fewer
-// instructions (callgrind) and was faster on an AMD EPYC without AVX-512 (docs/RUNTIME.md, "SIMD on
-// CPUs without AVX-512"), where lane-crossing permutes like lanes_avx512.h's had been slower than the
-// array.
-#define DNG_LANES_OWN_RECORDS 1
+// Shuffles within each 128-bit half in place of a transpose through an array, which moved every word
+// with a scalar load and store: the bricked nearest sampleBatch ran about a quarter fewer instructions
+// (callgrind) and was faster on an AMD EPYC without AVX-512 (docs/RUNTIME.md, "SIMD on CPUs without
+// AVX-512"), where lane-crossing permutes like lanes_avx512.h's had been slower than the array.
 
 namespace records {
 // 4x4 transpose within each 128-bit half: out[r] holds (a, b, c, d) of lane r, and of lane r + 4 in
