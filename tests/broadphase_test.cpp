@@ -191,9 +191,25 @@ TEST_P(SameResults, WithAndWithoutTheIndexBitForBit) {
 // 1 body: the ground alone; 70: more bodies than the step keeps motions for and samples of (64, 8).
 INSTANTIATE_TEST_SUITE_P(BodyCounts, SameResults, ::testing::Values(1, 9, 70, 300));
 
+// Steps a copy of `start` with every body and another through `index`, expects them bit for bit the
+// same, and returns how many particles touched a body.
+long contactsSteppedBothWays(const std::vector<Body>& bodies, const BodyIndex& index, const Particles& start) {
+  Particles plain = start, indexed = start;
+  EXPECT_EQ(stepParticles(plain.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
+  Diagnostic diag;
+  EXPECT_EQ(stepParticles(indexed.span(), kDt, bodies.data(), bodies.size(), index, &diag), Status::kOk)
+      << diag.message;
+  expectSame(plain, indexed, 0);
+  long contacts = 0;
+  for (std::uint8_t c : plain.contact)
+    contacts += c;
+  return contacts;
+}
+
 // The index keeps each body's numbers for the step from its rebuild (pose, motion, box, walk
 // constants), but never its material: materials may change between rebuild and step, and the step
-// must use them as they are then. Every kind of rule, on bodies listed in the same cells.
+// must use them as they are then. Every kind of rule, on bodies listed in the same cells; and again
+// after a rebuild with the bodies in place, which keeps the index.
 TEST(BodyIndex, MaterialsChangedAfterTheRebuildAreUsed) {
   std::vector<Mover> movers = randomScene(70, 23);
   std::vector<Body> bodies = bodiesOf(movers);
@@ -209,17 +225,11 @@ TEST(BodyIndex, MaterialsChangedAfterTheRebuildAreUsed) {
     m.swept = b % 5 == 0;
     ASSERT_EQ(bodies[b].setMaterial(m), Status::kOk);
   }
-  Particles plain = randomParticles(movers, 4000, 29);
-  Particles indexed = plain;
-  ASSERT_EQ(stepParticles(plain.span(), kDt, bodies.data(), bodies.size()), Status::kOk);
-  Diagnostic diag;
-  ASSERT_EQ(stepParticles(indexed.span(), kDt, bodies.data(), bodies.size(), index, &diag), Status::kOk)
-      << diag.message;
-  expectSame(plain, indexed, 0);
-  long contacts = 0;
-  for (std::uint8_t c : plain.contact)
-    contacts += c;
-  EXPECT_GT(contacts, 100);
+  const Particles start = randomParticles(movers, 4000, 29);
+  EXPECT_GT(contactsSteppedBothWays(bodies, index, start), 100);
+  // Rebuilt with the bodies in place, the index is kept and finds which bodies share a material again.
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  EXPECT_GT(contactsSteppedBothWays(bodies, index, start), 100);
 }
 
 // A body with a NaN velocity has no finite motion: the index refuses it, naming it, and so does the
@@ -291,6 +301,67 @@ TEST(BodyIndex, ListsFewBodiesAndEveryOverlappingOne) {
     for (std::uint32_t b = 0; b < bodies.size(); ++b) // at rest: the grown boxes are the bounds
       ASSERT_EQ(std::find(near, near + n, b) != near + n, overlaps(bodies[b], lo, hi)) << "query " << query;
   }
+}
+
+// The bodies rebuild(...) lists at the point p, as a sorted vector.
+std::vector<std::uint32_t> listedAt(const BodyIndex& index, Vec3f p) {
+  std::uint32_t near[128];
+  const std::size_t n = index.bodiesNear(p, p, near, 128);
+  return std::vector<std::uint32_t>(near, near + std::min<std::size_t>(n, 128));
+}
+
+// A rebuild for bodies that have not changed since the last one gives the same index without building
+// it again (a city's buildings at rest, frame after frame); whatever the build reads changing rebuilds
+// it: a body's place, its velocity, dt, the number of bodies, a body made invalid.
+TEST(BodyIndex, ARebuildSeesEveryChange) {
+  std::vector<Body> bodies = town();
+  BodyIndex index;
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  const Vec3f in_box_55{20.0f * 5 - 90.0f + 1.0f, 20.0f * 5 - 90.0f, 4.0f};
+  const std::vector<std::uint32_t> ground_and_55{0u, 56u};
+  ASSERT_EQ(listedAt(index, in_box_55), ground_and_55);
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk); // nothing changed
+  EXPECT_TRUE(index.built());
+  EXPECT_EQ(listedAt(index, in_box_55), ground_and_55);
+
+  // Moved beyond the ground's box.
+  const float q[4] = {1, 0, 0, 0};
+  const Vec3f away{400.0f, 0.0f, 0.0f};
+  ASSERT_EQ(bodies[56].setTransform(away, q, 0.5f), Status::kOk);
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  EXPECT_EQ(listedAt(index, in_box_55), std::vector<std::uint32_t>{0u});
+  EXPECT_EQ(listedAt(index, away), std::vector<std::uint32_t>{56u});
+
+  // A velocity grows the box by how far the body moves in dt (10 units here), and a longer dt more.
+  const Vec3f beyond_56{away.x, bodies[56].boundsMax().y + 8.0f, away.z};
+  EXPECT_TRUE(listedAt(index, beyond_56).empty());
+  bodies[56].setVelocity({0.0f, 600.0f, 0.0f}, {0.0f, 0.0f, 0.0f});
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), kDt), Status::kOk);
+  EXPECT_EQ(listedAt(index, beyond_56), std::vector<std::uint32_t>{56u});
+  const Vec3f farther{away.x, bodies[56].boundsMax().y + 15.0f, away.z};
+  EXPECT_TRUE(listedAt(index, farther).empty());
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), 2.0f * kDt), Status::kOk);
+  EXPECT_EQ(index.dt(), 2.0f * kDt);
+  EXPECT_EQ(listedAt(index, farther), std::vector<std::uint32_t>{56u});
+
+  // Fewer bodies: the last one leaves the index.
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size() - 1, 2.0f * kDt), Status::kOk);
+  EXPECT_EQ(index.bodyCount(), bodies.size() - 1);
+  const Vec3f in_box_99 = bodies[100].translation();
+  EXPECT_EQ(listedAt(index, in_box_99), std::vector<std::uint32_t>{0u});
+
+  // A failed rebuild empties the index, and the next one builds it whole.
+  EXPECT_EQ(index.rebuild(bodies.data(), bodies.size(), -1.0f), Status::kInvalidArgument);
+  EXPECT_FALSE(index.built());
+  ASSERT_EQ(index.rebuild(bodies.data(), bodies.size(), 2.0f * kDt), Status::kOk);
+  EXPECT_EQ(listedAt(index, in_box_99), (std::vector<std::uint32_t>{0u, 100u}));
+
+  // A body replaced by an empty one is refused, named, as in a first build.
+  bodies[3] = Body();
+  Diagnostic diag;
+  EXPECT_EQ(index.rebuild(bodies.data(), bodies.size(), 2.0f * kDt, &diag), Status::kInvalidArgument);
+  EXPECT_NE(std::string(diag.message).find("body 3"), std::string::npos) << diag.message;
+  EXPECT_FALSE(index.built());
 }
 
 // One building-sized body next to one a million times larger: the grid stays small and correct.

@@ -88,7 +88,10 @@ double cellEdge(const double extent[3], std::size_t bodies) {
 BodyMotion motionOf(const Body& body, float dt) { return {poseAfter(body, dt), bodyTravel(body, dt)}; }
 
 Status checkMotion(const Body& body, std::size_t index, float dt, Diagnostic* out_diag) {
-  const BodyMotion motion = motionOf(body, dt);
+  return checkMotion(body, motionOf(body, dt), index, out_diag);
+}
+
+Status checkMotion(const Body& body, const BodyMotion& motion, std::size_t index, Diagnostic* out_diag) {
   bool finite = std::isfinite(motion.travel) && isFinite(motion.end.t);
   for (float r : motion.end.r)
     finite = finite && std::isfinite(r);
@@ -129,20 +132,18 @@ void setCells(BodyIndex::Impl* grid, const double extent[3], double edge) {
 } // namespace
 
 void BodyIndex::Impl::boxInCells(const Box& box, std::uint32_t first, std::uint32_t last, int axis,
-                                 std::vector<std::uint32_t>* out) const {
+                                 std::uint32_t* out) const {
   const float lo = axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z;
   const float hi = axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z;
-  out->clear();
   for (std::uint32_t c = first; c <= last; ++c)
-    out->push_back(cell_box::field(axis, cell_box::quantize(lo, origin[axis], inv_cell, float(c))) |
-                   cell_box::field(3 + axis, cell_box::quantize(hi, origin[axis], inv_cell, float(c))));
+    out[c - first] = cell_box::field(axis, cell_box::quantize(lo, origin[axis], inv_cell, float(c))) |
+                     cell_box::field(3 + axis, cell_box::quantize(hi, origin[axis], inv_cell, float(c)));
 }
 
 void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float step_dt) {
   built = false;
   count = body_count;
   dt = step_dt;
-  motions.resize(count);
   prepared.resize(count);
   boxes.resize(count);
   states.resize(count * kStateFloats);
@@ -154,7 +155,6 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   scene_lo = {inf, inf, inf};
   scene_hi = {-inf, -inf, -inf};
   for (std::size_t b = 0; b < count; ++b) {
-    motions[b] = motionOf(bodies[b], dt);
     prepared[b] = prepareStep(bodies[b], motions[b]);
     std::uint32_t* state = &states[b * kStateFloats];
     forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { state[k] = bits; });
@@ -196,19 +196,24 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
         for (std::uint32_t x = r.lo[0]; x <= r.hi[0]; ++x)
           f(cellIndex(x, y, z), x, y, z);
   };
-  for (std::uint32_t b : boxed)
-    forEachCell(cellRange(*this, grownBox(b)),
-                [&](std::size_t c, std::uint32_t, std::uint32_t, std::uint32_t) { ++cell_start[c + 1]; });
+  std::vector<CellRange> ranges(boxed.size()); // per boxed body, in the grid chosen
+  for (std::size_t k = 0; k < boxed.size(); ++k) {
+    ranges[k] = cellRange(*this, grownBox(boxed[k]));
+    forEachCell(ranges[k], [&](std::size_t c, std::uint32_t, std::uint32_t, std::uint32_t) { ++cell_start[c + 1]; });
+  }
   for (std::size_t c = 0; c < cells; ++c)
     cell_start[c + 1] += cell_start[c];
   cell_bodies.resize(cell_start[cells]);
   cell_boxes.resize(cell_start[cells] + 1); // one past the last entry: the kernels read entries in pairs
   std::vector<std::uint32_t> fill(cell_start.begin(), cell_start.end() - 1);
   std::vector<std::uint32_t> along[3]; // a body's cell_box fields per cell along each axis
-  for (std::uint32_t b : boxed) {
-    const CellRange r = cellRange(*this, grownBox(b));
+  for (int a = 0; a < 3; ++a)
+    along[a].resize(dims[a]);
+  for (std::size_t k = 0; k < boxed.size(); ++k) {
+    const std::uint32_t b = boxed[k];
+    const CellRange& r = ranges[k];
     for (int a = 0; a < 3; ++a)
-      boxInCells(grownBox(b), r.lo[a], r.hi[a], a, &along[a]);
+      boxInCells(grownBox(b), r.lo[a], r.hi[a], a, along[a].data());
     forEachCell(r, [&](std::size_t c, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
       cell_boxes[fill[c]] = along[0][x - r.lo[0]] | along[1][y - r.lo[1]] | along[2][z - r.lo[2]];
       cell_bodies[fill[c]++] = b;
@@ -218,13 +223,41 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   built = true;
 }
 
+bool BodyIndex::Impl::sameBuild(const Body* bodies, std::size_t body_count, float step_dt) const {
+  if (step_dt != dt || body_count != count) return false;
+  for (std::size_t b = 0; b < count; ++b) { // matches() reads their fields
+    if (!bodies[b].valid()) return false;
+  }
+  std::size_t changed;
+  if (!matches(bodies, body_count, &changed)) return false;
+  // The box too: a body keeps the box it was placed with, and its field's grid may differ from the
+  // one the build saw (a View opened again in place) while every number matches() reads is the same.
+  for (std::size_t b = 0; b < count; ++b) {
+    const Box& box = boxes[b].box[int(BodyBox::kBounds)];
+    const Vec3f lo = bodies[b].boundsMin(), hi = bodies[b].boundsMax();
+    if (std::memcmp(&box.lo, &lo, sizeof lo) != 0 || std::memcmp(&box.hi, &hi, sizeof hi) != 0) return false;
+  }
+  return true;
+}
+
+void BodyIndex::Impl::refreshKinds(const Body* bodies) {
+  for (std::size_t b = 0; b < count; ++b) {
+    if (!sameMaterial(materials[b], bodies[b].material())) {
+      findKinds(bodies);
+      return;
+    }
+  }
+}
+
 void BodyIndex::Impl::findKinds(const Body* bodies) {
   constexpr int kRecentKinds = 8; // a city's buildings share one kind or a few
   std::int32_t recent[kRecentKinds];
   int known = 0;
   kinds.resize(count);
+  materials.resize(count);
   for (std::size_t b = 0; b < count; ++b) {
     const Body& body = bodies[b];
+    materials[b] = body.material();
     int k = 0;
     while (k < known &&
            !(bodies[recent[k]].field() == body.field() && sameMaterial(bodies[recent[k]].material(), body.material())))
@@ -272,23 +305,35 @@ BodyIndex::BodyIndex(BodyIndex&&) noexcept = default;
 BodyIndex& BodyIndex::operator=(BodyIndex&&) noexcept = default;
 
 Status BodyIndex::rebuild(const Body* bodies, std::size_t count, float dt, Diagnostic* out_diag) {
-  if (impl_ != nullptr) impl_->built = false;
+  const bool was_built = built();
+  if (impl_ != nullptr) impl_->built = false; // until this rebuild succeeds
   if (!(dt > 0.0f) || !std::isfinite(dt))
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "dt must be finite and > 0, got %g", double(dt));
   if (count > 0 && bodies == nullptr)
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "bodies is null but count is %zu", count);
   if (count >= (std::size_t(1) << 31))
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "%zu bodies is too many for an index", count);
-  for (std::size_t b = 0; b < count; ++b) {
-    if (!bodies[b].valid()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "body %zu is not valid", b);
-    const Status motion = checkMotion(bodies[b], b, dt, out_diag);
-    if (motion != Status::kOk) return motion;
+  // Bodies at rest and in place since the last build (a city's buildings, frame after frame) give the
+  // same index again: what it costs then is the comparison, O(bodies) reads of what the build kept.
+  // The comparison reads every number the checks below read, so they would pass again too.
+  if (was_built && impl_->sameBuild(bodies, count, dt)) {
+    impl_->refreshKinds(bodies);
+    impl_->built = true;
+    return Status::kOk;
   }
   try {
     if (impl_ == nullptr) impl_.reset(new Impl);
+    impl_->motions.resize(count);
+    // Each body's motion, checked here and kept for the build.
+    for (std::size_t b = 0; b < count; ++b) {
+      if (!bodies[b].valid()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "body %zu is not valid", b);
+      impl_->motions[b] = motionOf(bodies[b], dt);
+      const Status motion = checkMotion(bodies[b], impl_->motions[b], b, out_diag);
+      if (motion != Status::kOk) return motion;
+    }
     impl_->build(bodies, count, dt);
   } catch (const std::bad_alloc&) {
-    if (impl_ != nullptr) impl_->built = false;
+    impl_.reset(); // nothing of a build that ran out of memory is kept
     return writeDiagnostic(out_diag, Status::kOutOfMemory, "out of memory building an index of %zu bodies", count);
   }
   return Status::kOk;

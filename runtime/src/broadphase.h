@@ -34,6 +34,8 @@ BodyMotion motionOf(const Body& body, float dt);
 /// kInvalidArgument, naming body `index`, when its velocities do not give a finite motion over dt (a
 /// velocity not finite, or one so large its travel overflows): the walk could not judge its moves.
 Status checkMotion(const Body& body, std::size_t index, float dt, Diagnostic* out_diag);
+/// The same for the motion motionOf(body, dt) already gave.
+Status checkMotion(const Body& body, const BodyMotion& motion, std::size_t index, Diagnostic* out_diag);
 
 /// One body as the SIMD kernels see it in a step: what follows from its field, pose and motion, computed
 /// with the expressions the scalar path uses, so both paths compare the same numbers. Nothing of the
@@ -148,15 +150,22 @@ struct BodyIndex::Impl {
   // may change after the build: the kinds hold for a call while every body's material still equals its
   // kind's (kindsHold).
   std::vector<std::int32_t> kinds;
+  std::vector<Material> materials; // per body, as findKinds saw them
 
+  /// Builds the index; `motions` must already hold motionOf(bodies[b], step_dt) for every body.
   void build(const Body* bodies, std::size_t body_count, float step_dt);
+  /// For an index that was built: whether a build for `bodies[0, body_count)` and `step_dt` would give
+  /// it again. It was built for that count and dt, and every body has the state, field and box the
+  /// build read (matches()). Materials aside: findKinds alone reads them (refreshKinds).
+  bool sameBuild(const Body* bodies, std::size_t body_count, float step_dt) const;
+  /// findKinds again when a body's material changed since the kinds were found.
+  void refreshKinds(const Body* bodies);
   void findKinds(const Body* bodies);
   /// Whether `kinds` still holds for `bodies`, which match the build's (matches()).
   bool kindsHold(const Body* bodies) const;
   /// The cell_box fields of `box` along `axis` (low end in field axis, high end in field 3 + axis) in
   /// the cells first to last along that axis, into *out; a cell's word ORs its three axes' fields.
-  void boxInCells(const Box& box, std::uint32_t first, std::uint32_t last, int axis,
-                  std::vector<std::uint32_t>* out) const;
+  void boxInCells(const Box& box, std::uint32_t first, std::uint32_t last, int axis, std::uint32_t* out) const;
 
   /// Coordinate -> cell along `axis`, clamped to the grid. Monotone in x (a subtraction and a
   /// multiplication by a positive number, each rounded once, then clamps), which is all exactness

@@ -520,7 +520,8 @@ bool fieldUnchanged(const StepBody& prepared, const Body& body) {
   // What prepareStep takes from the field: the encoding, and numbers of the band and the voxel size.
   return prepared.field == &field && prepared.dense == (g.encoding == format::Encoding::kDense) &&
          prepared.band_world == g.band * body.scale() && prepared.margin == kMarginVoxels * g.voxel_size &&
-         prepared.reach == field.guaranteedReach();
+         prepared.reach == field.guaranteedReach() && prepared.roomy == walkRoomy(field) &&
+         prepared.proof_level == walkProofLevel(field);
 }
 
 Status stepParticles(const ParticleSpan& particles, float dt, const Body* bodies, std::size_t body_count,

@@ -31,7 +31,10 @@ public:
   /// Builds the index for stepping `bodies[0, count)` by `dt`: their poses now, their velocities, their
   /// end-of-step poses. O(count + grid cells). Allocates, reusing the memory of the previous build
   /// when it is enough; never throws. Call it again whenever a body moves, turns, changes velocity or
-  /// field, or the set of bodies or dt changes (materials may change freely). Fails, leaving the index
+  /// field, or the set of bodies or dt changes (materials may change freely); calling it every frame
+  /// is fine: when the count, dt and every body (field, transform, velocities, box) are bit for bit
+  /// what the last successful rebuild saw, it keeps the index after an O(count) comparison, and only
+  /// finds again which bodies share a material if one changed. Fails, leaving the index
   /// empty (built() false): kInvalidArgument when dt is not finite and > 0, bodies is null with count
   /// > 0, a body is not valid or its velocities give no finite motion
   /// over dt, or count >= 2^31; kOutOfMemory.
