@@ -164,7 +164,8 @@ struct BodyIndex::Impl {
   /// Whether `kinds` still holds for `bodies`, which match the build's (matches()).
   bool kindsHold(const Body* bodies) const;
   /// The cell_box fields of `box` along `axis` (low end in field axis, high end in field 3 + axis) in
-  /// the cells first to last along that axis, into *out; a cell's word ORs its three axes' fields.
+  /// the cells first to last along that axis, into out[0, last - first]; a cell's word ORs its three
+  /// axes' fields.
   void boxInCells(const Box& box, std::uint32_t first, std::uint32_t last, int axis, std::uint32_t* out) const;
 
   /// Coordinate -> cell along `axis`, clamped to the grid. Monotone in x (a subtraction and a
