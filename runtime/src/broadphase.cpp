@@ -155,14 +155,16 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   scene_lo = {inf, inf, inf};
   scene_hi = {-inf, -inf, -inf};
   for (std::size_t b = 0; b < count; ++b) {
-    prepared[b] = prepareStep(bodies[b], motions[b]);
-    std::uint32_t* state = &states[b * kStateFloats];
-    forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { state[k] = bits; });
-    const float t = motions[b].travel;
-    const Vec3f lo = bodies[b].boundsMin(), hi = bodies[b].boundsMax();
-    boxes[b].box[int(BodyBox::kBounds)] = {lo, hi};
-    const Box grown{{lo.x - t, lo.y - t, lo.z - t}, {hi.x + t, hi.y + t, hi.z + t}};
-    boxes[b].box[int(BodyBox::kGrown)] = grown;
+    if (!unchanged[b]) { // else the last build's numbers for it stand
+      prepared[b] = prepareStep(bodies[b], motions[b]);
+      std::uint32_t* state = &states[b * kStateFloats];
+      forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { state[k] = bits; });
+      const float t = motions[b].travel;
+      const Vec3f lo = bodies[b].boundsMin(), hi = bodies[b].boundsMax();
+      boxes[b].box[int(BodyBox::kBounds)] = {lo, hi};
+      boxes[b].box[int(BodyBox::kGrown)] = {{lo.x - t, lo.y - t, lo.z - t}, {hi.x + t, hi.y + t, hi.z + t}};
+    }
+    const Box& grown = boxes[b].box[int(BodyBox::kGrown)];
     if (!isFinite(grown.lo) || !isFinite(grown.hi)) {
       everywhere.push_back(std::uint32_t(b));
       continue;
@@ -223,19 +225,26 @@ void BodyIndex::Impl::build(const Body* bodies, std::size_t body_count, float st
   built = true;
 }
 
+bool BodyIndex::Impl::stateUnchanged(std::size_t b, const Body& body) const {
+  const std::uint32_t* built_state = &states[b * kStateFloats];
+  std::uint32_t differ = 0;
+  forEachState(body, [&](std::size_t k, std::uint32_t bits) { differ |= bits ^ built_state[k]; });
+  return differ == 0 && fieldUnchanged(prepared[b], body);
+}
+
+bool BodyIndex::Impl::bodyUnchanged(std::size_t b, const Body& body) const {
+  if (!body.valid() || !stateUnchanged(b, body)) return false;
+  // The box too: a body keeps the box it was placed with, and its field's grid may differ from the
+  // one the build saw (a View opened again in place) while every number of its state is the same.
+  const Box& box = boxes[b].box[int(BodyBox::kBounds)];
+  const Vec3f lo = body.boundsMin(), hi = body.boundsMax();
+  return std::memcmp(&box.lo, &lo, sizeof lo) == 0 && std::memcmp(&box.hi, &hi, sizeof hi) == 0;
+}
+
 bool BodyIndex::Impl::sameBuild(const Body* bodies, std::size_t body_count, float step_dt) const {
   if (step_dt != dt || body_count != count) return false;
-  for (std::size_t b = 0; b < count; ++b) { // matches() reads their fields
-    if (!bodies[b].valid()) return false;
-  }
-  std::size_t changed;
-  if (!matches(bodies, body_count, &changed)) return false;
-  // The box too: a body keeps the box it was placed with, and its field's grid may differ from the
-  // one the build saw (a View opened again in place) while every number matches() reads is the same.
   for (std::size_t b = 0; b < count; ++b) {
-    const Box& box = boxes[b].box[int(BodyBox::kBounds)];
-    const Vec3f lo = bodies[b].boundsMin(), hi = bodies[b].boundsMax();
-    if (std::memcmp(&box.lo, &lo, sizeof lo) != 0 || std::memcmp(&box.hi, &hi, sizeof hi) != 0) return false;
+    if (!bodyUnchanged(b, bodies[b])) return false;
   }
   return true;
 }
@@ -286,10 +295,7 @@ bool BodyIndex::Impl::matches(const Body* bodies, std::size_t body_count, std::s
     return false;
   }
   for (std::size_t b = 0; b < count; ++b) {
-    const std::uint32_t* built_state = &states[b * kStateFloats];
-    std::uint32_t differ = 0;
-    forEachState(bodies[b], [&](std::size_t k, std::uint32_t bits) { differ |= bits ^ built_state[k]; });
-    if (differ != 0 || !fieldUnchanged(prepared[b], bodies[b])) {
+    if (!stateUnchanged(b, bodies[b])) {
       *out_changed = b;
       return false;
     }
@@ -323,15 +329,24 @@ Status BodyIndex::rebuild(const Body* bodies, std::size_t count, float dt, Diagn
   }
   try {
     if (impl_ == nullptr) impl_.reset(new Impl);
-    impl_->motions.resize(count);
-    // Each body's motion, checked here and kept for the build.
+    // With the same count and dt, the last build's numbers for a body that has not changed stand (its
+    // motion, its numbers for the step, its boxes): a scene where a few bodies move redoes those alone.
+    const bool reuse = was_built && impl_->count == count && impl_->dt == dt;
+    Impl& index = *impl_;
+    index.motions.resize(count);
+    index.unchanged.assign(count, 0);
+    // Each other body's motion, checked here and kept for the build.
     for (std::size_t b = 0; b < count; ++b) {
+      if (reuse && index.bodyUnchanged(b, bodies[b])) {
+        index.unchanged[b] = 1;
+        continue;
+      }
       if (!bodies[b].valid()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "body %zu is not valid", b);
-      impl_->motions[b] = motionOf(bodies[b], dt);
-      const Status motion = checkMotion(bodies[b], impl_->motions[b], b, out_diag);
+      index.motions[b] = motionOf(bodies[b], dt);
+      const Status motion = checkMotion(bodies[b], index.motions[b], b, out_diag);
       if (motion != Status::kOk) return motion;
     }
-    impl_->build(bodies, count, dt);
+    index.build(bodies, count, dt);
   } catch (const std::bad_alloc&) {
     impl_.reset(); // nothing of a build that ran out of memory is kept
     return writeDiagnostic(out_diag, Status::kOutOfMemory, "out of memory building an index of %zu bodies", count);

@@ -151,12 +151,22 @@ struct BodyIndex::Impl {
   // kind's (kindsHold).
   std::vector<std::int32_t> kinds;
   std::vector<Material> materials; // per body, as findKinds saw them
+  // Per body, during a rebuild: 1 when it is as the last build saw it (bodyUnchanged), whose numbers
+  // for it then stand.
+  std::vector<std::uint8_t> unchanged;
 
-  /// Builds the index; `motions` must already hold motionOf(bodies[b], step_dt) for every body.
+  /// Builds the index. For every body, `unchanged` says whether the last build's numbers for it stand;
+  /// `motions` must hold motionOf(bodies[b], step_dt) for every other body.
   void build(const Body* bodies, std::size_t body_count, float step_dt);
+  /// Whether body b has the state (transform, velocities) and field that the build read (and that the
+  /// step's staleness check compares: matches()).
+  bool stateUnchanged(std::size_t b, const Body& body) const;
+  /// For an index that was built: whether `body`, as body b, would give it the same numbers again. It
+  /// is valid, and has the state, field and box the build read.
+  bool bodyUnchanged(std::size_t b, const Body& body) const;
   /// For an index that was built: whether a build for `bodies[0, body_count)` and `step_dt` would give
-  /// it again. It was built for that count and dt, and every body has the state, field and box the
-  /// build read (matches()). Materials aside: findKinds alone reads them (refreshKinds).
+  /// it again. It was built for that count and dt, and every body is unchanged (bodyUnchanged).
+  /// Materials aside: findKinds alone reads them (refreshKinds).
   bool sameBuild(const Body* bodies, std::size_t body_count, float step_dt) const;
   /// findKinds again when a body's material changed since the kinds were found.
   void refreshKinds(const Body* bodies);

@@ -34,7 +34,8 @@ public:
   /// field, or the set of bodies or dt changes (materials may change freely); calling it every frame
   /// is fine: when the count, dt and every body (field, transform, velocities, box) are bit for bit
   /// what the last successful rebuild saw, it keeps the index after an O(count) comparison, and only
-  /// finds again which bodies share a material if one changed. Fails, leaving the index
+  /// finds again which bodies share a material if one changed; when some changed, it computes again
+  /// the numbers of those alone, then the grid. Fails, leaving the index
   /// empty (built() false): kInvalidArgument when dt is not finite and > 0, bodies is null with count
   /// > 0, a body is not valid or its velocities give no finite motion
   /// over dt, or count >= 2^31; kOutOfMemory.
