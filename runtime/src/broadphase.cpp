@@ -241,14 +241,6 @@ bool BodyIndex::Impl::bodyUnchanged(std::size_t b, const Body& body) const {
   return std::memcmp(&box.lo, &lo, sizeof lo) == 0 && std::memcmp(&box.hi, &hi, sizeof hi) == 0;
 }
 
-bool BodyIndex::Impl::sameBuild(const Body* bodies, std::size_t body_count, float step_dt) const {
-  if (step_dt != dt || body_count != count) return false;
-  for (std::size_t b = 0; b < count; ++b) {
-    if (!bodyUnchanged(b, bodies[b])) return false;
-  }
-  return true;
-}
-
 void BodyIndex::Impl::refreshKinds(const Body* bodies) {
   for (std::size_t b = 0; b < count; ++b) {
     if (!sameMaterial(materials[b], bodies[b].material())) {
@@ -319,32 +311,34 @@ Status BodyIndex::rebuild(const Body* bodies, std::size_t count, float dt, Diagn
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "bodies is null but count is %zu", count);
   if (count >= (std::size_t(1) << 31))
     return writeDiagnostic(out_diag, Status::kInvalidArgument, "%zu bodies is too many for an index", count);
-  // Bodies at rest and in place since the last build (a city's buildings, frame after frame) give the
-  // same index again: what it costs then is the comparison, O(bodies) reads of what the build kept.
-  // The comparison reads every number the checks below read, so they would pass again too.
-  if (was_built && impl_->sameBuild(bodies, count, dt)) {
-    impl_->refreshKinds(bodies);
-    impl_->built = true;
-    return Status::kOk;
-  }
   try {
     if (impl_ == nullptr) impl_.reset(new Impl);
     // With the same count and dt, the last build's numbers for a body that has not changed stand (its
     // motion, its numbers for the step, its boxes): a scene where a few bodies move redoes those alone.
+    // The comparison reads every number the checks below read, so an unchanged body would pass them again.
     const bool reuse = was_built && impl_->count == count && impl_->dt == dt;
     Impl& index = *impl_;
     index.motions.resize(count);
     index.unchanged.assign(count, 0);
+    std::size_t kept = 0;
     // Each other body's motion, checked here and kept for the build.
     for (std::size_t b = 0; b < count; ++b) {
       if (reuse && index.bodyUnchanged(b, bodies[b])) {
         index.unchanged[b] = 1;
+        ++kept;
         continue;
       }
       if (!bodies[b].valid()) return writeDiagnostic(out_diag, Status::kInvalidArgument, "body %zu is not valid", b);
       index.motions[b] = motionOf(bodies[b], dt);
       const Status motion = checkMotion(bodies[b], index.motions[b], b, out_diag);
       if (motion != Status::kOk) return motion;
+    }
+    // Every body as the last build saw it (a city's buildings at rest, frame after frame): that build's
+    // grid stands too, and what this rebuild cost is the comparison.
+    if (reuse && kept == count) {
+      index.refreshKinds(bodies);
+      index.built = true;
+      return Status::kOk;
     }
     index.build(bodies, count, dt);
   } catch (const std::bad_alloc&) {

@@ -164,10 +164,6 @@ struct BodyIndex::Impl {
   /// For an index that was built: whether `body`, as body b, would give it the same numbers again. It
   /// is valid, and has the state, field and box the build read.
   bool bodyUnchanged(std::size_t b, const Body& body) const;
-  /// For an index that was built: whether a build for `bodies[0, body_count)` and `step_dt` would give
-  /// it again. It was built for that count and dt, and every body is unchanged (bodyUnchanged).
-  /// Materials aside: findKinds alone reads them (refreshKinds).
-  bool sameBuild(const Body* bodies, std::size_t body_count, float step_dt) const;
   /// findKinds again when a body's material changed since the kinds were found.
   void refreshKinds(const Body* bodies);
   void findKinds(const Body* bodies);
